@@ -1,0 +1,1 @@
+//! Probe functions for assembly inspection.

@@ -1,0 +1,1 @@
+//! A Whitted ray tracer built on vecexpr.

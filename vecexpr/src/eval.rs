@@ -1,0 +1,214 @@
+//! Evaluators: how each node computes element `i`, and how each node, vector and scalar
+//! becomes an operand. One impl per node type; nothing here loops (the loop is in
+//! [`crate::assign`]).
+
+use crate::expr::{
+    Binary, Compare, Expr, Map, MaskAnd, MaskExpr, MaskNot, MaskOr, MulAdd, Operand, Owned,
+    Select, Splat, Unary,
+};
+use crate::op::{BinaryOp, CompareOp, UnaryOp};
+use crate::packet::Packet;
+use crate::scalar::{Mask, Scalar};
+use crate::vector::Vector;
+use generic_array::ArrayLength;
+
+impl<T: Scalar, N: ArrayLength> Expr for &Vector<T, N> {
+    type Scalar = T;
+    type Dim = N;
+    #[inline(always)]
+    fn coeff(&self, i: usize) -> T {
+        self.as_slice()[i]
+    }
+}
+
+impl<T: Scalar, N: ArrayLength> Expr for Owned<T, N> {
+    type Scalar = T;
+    type Dim = N;
+    #[inline(always)]
+    fn coeff(&self, i: usize) -> T {
+        self.0.as_slice()[i]
+    }
+}
+
+impl<T: Scalar, N: ArrayLength> Expr for Splat<T, N> {
+    type Scalar = T;
+    type Dim = N;
+    #[inline(always)]
+    fn coeff(&self, _i: usize) -> T {
+        self.value
+    }
+}
+
+impl<L, R, O> Expr for Binary<L, R, O>
+where
+    L: Expr,
+    R: Expr<Scalar = L::Scalar, Dim = L::Dim>,
+    O: BinaryOp,
+{
+    type Scalar = L::Scalar;
+    type Dim = L::Dim;
+    #[inline(always)]
+    fn coeff(&self, i: usize) -> L::Scalar {
+        O::apply(self.lhs.coeff(i), self.rhs.coeff(i))
+    }
+}
+
+impl<E: Expr, O: UnaryOp> Expr for Unary<E, O> {
+    type Scalar = E::Scalar;
+    type Dim = E::Dim;
+    #[inline(always)]
+    fn coeff(&self, i: usize) -> E::Scalar {
+        O::apply(self.inner.coeff(i))
+    }
+}
+
+impl<A, B, C> Expr for MulAdd<A, B, C>
+where
+    A: Expr,
+    B: Expr<Scalar = A::Scalar, Dim = A::Dim>,
+    C: Expr<Scalar = A::Scalar, Dim = A::Dim>,
+{
+    type Scalar = A::Scalar;
+    type Dim = A::Dim;
+    #[inline(always)]
+    fn coeff(&self, i: usize) -> A::Scalar {
+        self.a.coeff(i).mul_add(self.b.coeff(i), self.c.coeff(i))
+    }
+}
+
+impl<M, A, B> Expr for Select<M, A, B>
+where
+    A: Expr,
+    B: Expr<Scalar = A::Scalar, Dim = A::Dim>,
+    M: MaskExpr<Mask = <A::Scalar as Scalar>::Mask, Dim = A::Dim>,
+{
+    type Scalar = A::Scalar;
+    type Dim = A::Dim;
+    #[inline(always)]
+    fn coeff(&self, i: usize) -> A::Scalar {
+        Scalar::select(self.mask.mask(i), self.a.coeff(i), self.b.coeff(i))
+    }
+}
+
+impl<E: Expr, F: Fn(E::Scalar) -> E::Scalar> Expr for Map<E, F> {
+    type Scalar = E::Scalar;
+    type Dim = E::Dim;
+    #[inline(always)]
+    fn coeff(&self, i: usize) -> E::Scalar {
+        (self.f)(self.inner.coeff(i))
+    }
+}
+
+impl<L, R, O> MaskExpr for Compare<L, R, O>
+where
+    L: Expr,
+    R: Expr<Scalar = L::Scalar, Dim = L::Dim>,
+    O: CompareOp,
+{
+    type Mask = <L::Scalar as Scalar>::Mask;
+    type Dim = L::Dim;
+    #[inline(always)]
+    fn mask(&self, i: usize) -> Self::Mask {
+        O::apply(self.lhs.coeff(i), self.rhs.coeff(i))
+    }
+}
+
+impl<L: MaskExpr, R: MaskExpr<Mask = L::Mask, Dim = L::Dim>> MaskExpr for MaskAnd<L, R> {
+    type Mask = L::Mask;
+    type Dim = L::Dim;
+    #[inline(always)]
+    fn mask(&self, i: usize) -> L::Mask {
+        self.lhs.mask(i).and(self.rhs.mask(i))
+    }
+}
+
+impl<L: MaskExpr, R: MaskExpr<Mask = L::Mask, Dim = L::Dim>> MaskExpr for MaskOr<L, R> {
+    type Mask = L::Mask;
+    type Dim = L::Dim;
+    #[inline(always)]
+    fn mask(&self, i: usize) -> L::Mask {
+        self.lhs.mask(i).or(self.rhs.mask(i))
+    }
+}
+
+impl<E: MaskExpr> MaskExpr for MaskNot<E> {
+    type Mask = E::Mask;
+    type Dim = E::Dim;
+    #[inline(always)]
+    fn mask(&self, i: usize) -> E::Mask {
+        self.inner.mask(i).not()
+    }
+}
+
+impl<M: Mask, N: ArrayLength> MaskExpr for &Vector<M, N> {
+    type Mask = M;
+    type Dim = N;
+    #[inline(always)]
+    fn mask(&self, i: usize) -> M {
+        self.as_slice()[i]
+    }
+}
+
+// ----- operands ---------------------------------------------------------------------------
+
+/// Every expression node is an operand of its own scalar and dimension.
+macro_rules! node_operand {
+    ([$($g:tt)*] $ty:ty) => {
+        impl<$($g)* T__: Scalar, N__: ArrayLength> Operand<T__, N__> for $ty
+        where
+            $ty: Expr<Scalar = T__, Dim = N__>,
+        {
+            type Expr = Self;
+            #[inline(always)]
+            fn into_expr(self) -> Self {
+                self
+            }
+        }
+    };
+}
+
+node_operand!(['a, T, N: ArrayLength,] &'a Vector<T, N>);
+node_operand!([T, N: ArrayLength,] Owned<T, N>);
+node_operand!([T, N,] Splat<T, N>);
+node_operand!([L, R, O,] Binary<L, R, O>);
+node_operand!([E, O,] Unary<E, O>);
+node_operand!([A, B, C,] MulAdd<A, B, C>);
+node_operand!([M, A, B,] Select<M, A, B>);
+node_operand!([E, F,] Map<E, F>);
+
+/// An owned vector is moved into the tree as an [`Owned`] leaf.
+impl<T: Scalar, N: ArrayLength> Operand<T, N> for Vector<T, N> {
+    type Expr = Owned<T, N>;
+    #[inline(always)]
+    fn into_expr(self) -> Owned<T, N> {
+        Owned(self)
+    }
+}
+
+/// A scalar of the expression's own type is broadcast to every element.
+impl<T: Scalar, N: ArrayLength> Operand<T, N> for T {
+    type Expr = Splat<T, N>;
+    #[inline(always)]
+    fn into_expr(self) -> Splat<T, N> {
+        Splat::new(self)
+    }
+}
+
+/// A plain `f32`/`f64` next to a packet expression is broadcast to every lane.
+macro_rules! lane_operand {
+    ($t:ty) => {
+        impl<L: ArrayLength, N: ArrayLength> Operand<Packet<$t, L>, N> for $t
+        where
+            Packet<$t, L>: Scalar,
+        {
+            type Expr = Splat<Packet<$t, L>, N>;
+            #[inline(always)]
+            fn into_expr(self) -> Self::Expr {
+                Splat::new(Packet::<$t, L>::from_fn(|_| self))
+            }
+        }
+    };
+}
+lane_operand!(f32);
+lane_operand!(f64);
+

@@ -1,0 +1,511 @@
+//! Expression nodes: pure data describing a computation, and the traits that tie them
+//! together.
+//!
+//! A node stores its operands and, as a type parameter, the operation; it does no
+//! arithmetic. Arithmetic happens only when an expression is evaluated
+//! ([`Expr::eval`], [`Vector::assign`](crate::Vector::assign)), one element at a time
+//! through [`Expr::coeff`] in the single loop of [`crate::assign`].
+
+use crate::op::{
+    AbsOp, EqOp, GeOp, GtOp, LeOp, LtOp, MaxOp, MinOp, MulOp, RecipOp, SqrtOp,
+};
+use crate::scalar::Real;
+use typenum::U3;
+use crate::scalar::{Mask, Scalar};
+use crate::vector::Vector;
+use core::marker::PhantomData;
+use generic_array::ArrayLength;
+use typenum::Unsigned;
+
+/// A lazy vector-valued expression of dimension `Dim` over the scalar `Scalar`.
+///
+/// Implemented by borrowed vectors (`&Vector`), by owned vectors wrapped in [`Owned`],
+/// and by every node type. Element `i` of the result is `coeff(i)`; evaluation calls it
+/// once per element, in one loop, so a tree of element-wise nodes is computed in a single
+/// fused pass with no temporaries.
+///
+/// Non-element-wise operations (`dot`, `sum`, `normalize`, `cross`, `reflect`, ...) are
+/// provided methods that evaluate each child exactly once.
+pub trait Expr: Sized {
+    /// The element type.
+    type Scalar: Scalar;
+    /// The dimension, a typenum unsigned integer.
+    type Dim: ArrayLength;
+
+    /// Element `i` of the result. `i < Dim::USIZE`; larger indices panic.
+    fn coeff(&self, i: usize) -> Self::Scalar;
+
+    // ----- evaluation -------------------------------------------------------------------
+
+    /// Computes the expression into a new vector, in one loop over the elements.
+    ///
+    /// The result lives on the stack; for very long vectors (a million elements) use
+    /// [`Expr::eval_boxed`] or [`Vector::assign`] into a boxed vector.
+    ///
+    /// # Examples
+    /// ```
+    /// use vecexpr::{vec3, Expr};
+    /// let (a, b) = (vec3(1.0f32, 2.0, 3.0), vec3(4.0f32, 5.0, 6.0));
+    /// assert_eq!((&a * 2.0 + &b).eval(), vec3(6.0, 9.0, 12.0));
+    /// ```
+    #[inline(always)]
+    fn eval(self) -> Vector<Self::Scalar, Self::Dim> {
+        crate::assign::eval(&self)
+    }
+
+    /// Computes the expression into a new heap-allocated vector, never touching the stack
+    /// with the whole result.
+    #[inline]
+    fn eval_boxed(self) -> Box<Vector<Self::Scalar, Self::Dim>> {
+        Vector::boxed_from_fn(|i| self.coeff(i))
+    }
+
+    // ----- lazy element-wise operations --------------------------------------------------
+
+    /// Element-wise minimum, lazily (see [`Scalar::min`] for NaN).
+    #[inline(always)]
+    fn min<R: Operand<Self::Scalar, Self::Dim>>(self, rhs: R) -> Binary<Self, R::Expr, MinOp> {
+        Binary::new(self, rhs.into_expr())
+    }
+    /// Element-wise maximum, lazily (see [`Scalar::max`] for NaN).
+    #[inline(always)]
+    fn max<R: Operand<Self::Scalar, Self::Dim>>(self, rhs: R) -> Binary<Self, R::Expr, MaxOp> {
+        Binary::new(self, rhs.into_expr())
+    }
+    /// Element-wise $|x_i|$, lazily.
+    #[inline(always)]
+    fn abs(self) -> Unary<Self, AbsOp> {
+        Unary::new(self)
+    }
+    /// Element-wise $\sqrt{x_i}$, lazily.
+    #[inline(always)]
+    fn sqrt(self) -> Unary<Self, SqrtOp> {
+        Unary::new(self)
+    }
+    /// Element-wise $1 / x_i$, lazily.
+    #[inline(always)]
+    fn recip(self) -> Unary<Self, RecipOp> {
+        Unary::new(self)
+    }
+    /// Element-wise fused multiply-add $x_i a_i + c_i$ with one rounding, lazily.
+    ///
+    /// Rust never contracts `a * b + c` into an FMA by itself, because the result differs
+    /// in the last bit; this node asks for it explicitly. On a target without hardware FMA
+    /// (plain `x86-64`) each element becomes a library call, so build with
+    /// `-C target-cpu=x86-64-v3` or newer when using it in hot code.
+    #[inline(always)]
+    fn mul_add<A, C>(self, a: A, c: C) -> MulAdd<Self, A::Expr, C::Expr>
+    where
+        A: Operand<Self::Scalar, Self::Dim>,
+        C: Operand<Self::Scalar, Self::Dim>,
+    {
+        MulAdd {
+            a: self,
+            b: a.into_expr(),
+            c: c.into_expr(),
+        }
+    }
+    /// Multiplies every element by the scalar `s`, lazily (`self * s` for generic code
+    /// where the scalar type is a type parameter).
+    #[inline(always)]
+    fn scale(self, s: Self::Scalar) -> Binary<Self, Splat<Self::Scalar, Self::Dim>, MulOp> {
+        Binary::new(self, Splat::new(s))
+    }
+    /// Applies `f` to every element, lazily.
+    #[inline(always)]
+    fn map<F: Fn(Self::Scalar) -> Self::Scalar>(self, f: F) -> Map<Self, F> {
+        Map { inner: self, f }
+    }
+    /// Element-wise $x_i < y_i$, lazily.
+    #[inline(always)]
+    fn lt<R: Operand<Self::Scalar, Self::Dim>>(self, rhs: R) -> Compare<Self, R::Expr, LtOp> {
+        Compare::new(self, rhs.into_expr())
+    }
+    /// Element-wise $x_i \le y_i$, lazily.
+    #[inline(always)]
+    fn le<R: Operand<Self::Scalar, Self::Dim>>(self, rhs: R) -> Compare<Self, R::Expr, LeOp> {
+        Compare::new(self, rhs.into_expr())
+    }
+    /// Element-wise $x_i > y_i$, lazily.
+    #[inline(always)]
+    fn gt<R: Operand<Self::Scalar, Self::Dim>>(self, rhs: R) -> Compare<Self, R::Expr, GtOp> {
+        Compare::new(self, rhs.into_expr())
+    }
+    /// Element-wise $x_i \ge y_i$, lazily.
+    #[inline(always)]
+    fn ge<R: Operand<Self::Scalar, Self::Dim>>(self, rhs: R) -> Compare<Self, R::Expr, GeOp> {
+        Compare::new(self, rhs.into_expr())
+    }
+    /// Element-wise IEEE $x_i = y_i$, lazily.
+    #[inline(always)]
+    fn eq_mask<R: Operand<Self::Scalar, Self::Dim>>(self, rhs: R) -> Compare<Self, R::Expr, EqOp> {
+        Compare::new(self, rhs.into_expr())
+    }
+
+    // ----- reductions: each child is evaluated once ------------------------------------
+
+    /// $\sum_i x_i$.
+    ///
+    /// Below 64 elements the sum runs left to right; from 64 elements up it uses 32
+    /// interleaved partial sums (so it vectorises), which changes the rounding order.
+    #[inline(always)]
+    fn sum(self) -> Self::Scalar {
+        crate::assign::sum(|i| self.coeff(i), Self::Dim::USIZE)
+    }
+    /// $\sum_i x_i y_i$ (same summation order as [`Expr::sum`]).
+    ///
+    /// # Examples
+    /// ```
+    /// use vecexpr::{vec3, Expr};
+    /// assert_eq!(vec3(1.0f32, 2.0, 3.0).dot(&vec3(4.0, 5.0, 6.0)), 32.0);
+    /// ```
+    #[inline(always)]
+    fn dot<R: Operand<Self::Scalar, Self::Dim>>(self, rhs: R) -> Self::Scalar {
+        let rhs = rhs.into_expr();
+        crate::assign::sum(|i| self.coeff(i) * rhs.coeff(i), Self::Dim::USIZE)
+    }
+    /// $\sum_i x_i^2$.
+    #[inline(always)]
+    fn length_squared(self) -> Self::Scalar {
+        crate::assign::sum(
+            |i| {
+                let x = self.coeff(i);
+                x * x
+            },
+            Self::Dim::USIZE,
+        )
+    }
+    /// Euclidean length $\sqrt{\sum_i x_i^2}$ (overflows to ∞ when the squares do).
+    #[inline(always)]
+    fn length(self) -> Self::Scalar {
+        self.length_squared().sqrt()
+    }
+    /// Smallest element (NaN follows [`Scalar::min`]; per lane for packets).
+    ///
+    /// # Panics
+    /// If the dimension is zero.
+    #[inline(always)]
+    fn min_element(self) -> Self::Scalar {
+        crate::assign::fold1(|i| self.coeff(i), Self::Dim::USIZE, Scalar::min)
+    }
+    /// Largest element (NaN follows [`Scalar::max`]; per lane for packets).
+    ///
+    /// # Panics
+    /// If the dimension is zero.
+    #[inline(always)]
+    fn max_element(self) -> Self::Scalar {
+        crate::assign::fold1(|i| self.coeff(i), Self::Dim::USIZE, Scalar::max)
+    }
+    /// The unit vector $x / \lVert x \rVert$.
+    ///
+    /// Never NaN for finite input: a zero vector gives the zero vector, and vectors whose
+    /// squared length underflows or overflows are rescaled by their largest magnitude
+    /// first, so `[1e-30, 0, 0]` and `[1e30, 1e30, 0]` normalise correctly in `f32`.
+    /// Infinite or NaN components give NaN. For packets each lane is treated separately.
+    ///
+    /// # Examples
+    /// ```
+    /// use vecexpr::{vec3, Expr};
+    /// assert_eq!(vec3(3.0f32, 0.0, 4.0).normalize(), vec3(0.6, 0.0, 0.8));
+    /// assert_eq!(vec3(0.0f32, 0.0, 0.0).normalize(), vec3(0.0, 0.0, 0.0));
+    /// ```
+    #[inline(always)]
+    fn normalize(self) -> Vector<Self::Scalar, Self::Dim> {
+        crate::geometry::normalize(self.eval())
+    }
+    /// Cross product $x \times y$ of two 3-vectors.
+    ///
+    /// # Examples
+    /// ```
+    /// use vecexpr::{vec3, Expr};
+    /// assert_eq!(vec3(1.0f32, 0.0, 0.0).cross(&vec3(0.0, 1.0, 0.0)), vec3(0.0, 0.0, 1.0));
+    /// ```
+    #[inline(always)]
+    fn cross<R>(self, rhs: R) -> Vector<Self::Scalar, U3>
+    where
+        Self: Expr<Dim = U3>,
+        R: Operand<Self::Scalar, U3>,
+    {
+        crate::geometry::cross(self.eval(), rhs.into_expr().eval())
+    }
+    /// Reflection of the incident direction `self` about the normal `n`:
+    /// $R = I - 2 N (N \cdot I)$. `n` must be unit length; `self` need not be.
+    ///
+    /// # Examples
+    /// ```
+    /// use vecexpr::{vec3, Expr};
+    /// let r = vec3(1.0f32, -1.0, 0.0).reflect(&vec3(0.0, 1.0, 0.0));
+    /// assert_eq!(r, vec3(1.0, 1.0, 0.0));
+    /// ```
+    #[inline(always)]
+    fn reflect<R: Operand<Self::Scalar, Self::Dim>>(self, n: R) -> Vector<Self::Scalar, Self::Dim> {
+        crate::geometry::reflect(self.eval(), n.into_expr().eval())
+    }
+    /// Refraction of the unit incident direction `self` through a surface with unit
+    /// normal `n` (pointing against `self`), with $\eta = n_1 / n_2$, by Snell's law:
+    ///
+    /// $k = 1 - \eta^2 (1 - (N \cdot I)^2)$; if $k < 0$ the ray is totally internally
+    /// reflected and the result is `None`; otherwise
+    /// $T = \eta I - (\eta (N \cdot I) + \sqrt{k}) N$, a unit vector.
+    ///
+    /// # Examples
+    /// ```
+    /// use vecexpr::{vec3, Expr};
+    /// let n = vec3(0.0f64, 1.0, 0.0);
+    /// // Straight through at normal incidence, whatever eta.
+    /// assert_eq!(vec3(0.0, -1.0, 0.0).refract(&n, 1.5), Some(vec3(0.0, -1.0, 0.0)));
+    /// // Grazing exit from glass: total internal reflection.
+    /// let i = vec3(0.8f64, -0.6, 0.0);
+    /// assert_eq!(i.refract(&n, 1.5), None);
+    /// ```
+    #[inline(always)]
+    fn refract<R: Operand<Self::Scalar, Self::Dim>>(
+        self,
+        n: R,
+        eta: Self::Scalar,
+    ) -> Option<Vector<Self::Scalar, Self::Dim>>
+    where
+        Self::Scalar: Real,
+    {
+        let (t, ok) = crate::geometry::refract(self.eval(), n.into_expr().eval(), eta);
+        ok.then_some(t)
+    }
+    /// [`Expr::refract`] for any scalar, packets included: returns the refracted
+    /// direction and a mask that is true where refraction happened. Lanes with total
+    /// internal reflection hold the zero vector.
+    #[inline(always)]
+    fn refract_masked<R: Operand<Self::Scalar, Self::Dim>>(
+        self,
+        n: R,
+        eta: Self::Scalar,
+    ) -> (
+        Vector<Self::Scalar, Self::Dim>,
+        <Self::Scalar as Scalar>::Mask,
+    ) {
+        crate::geometry::refract(self.eval(), n.into_expr().eval(), eta)
+    }
+}
+
+/// Something that can stand as an operand of an expression with scalar `T` and
+/// dimension `N`: another expression of the same scalar and dimension, an owned or
+/// borrowed [`Vector`], or a single scalar (broadcast to every element).
+///
+/// A dimension or scalar-type mismatch fails here, at the operator, at compile time.
+#[diagnostic::on_unimplemented(
+    message = "`{Self}` is not an operand for a vecexpr expression of scalar `{T}` and dimension `{N}`",
+    label = "dimension or scalar type does not match the other operand",
+    note = "both sides of a vecexpr operator must have the same scalar type and the same dimension (U3 with U3, f32 with f32); use `extend`/`truncate` to change a dimension"
+)]
+pub trait Operand<T: Scalar, N: ArrayLength> {
+    /// The expression this operand becomes.
+    type Expr: Expr<Scalar = T, Dim = N>;
+    /// Converts into the expression.
+    fn into_expr(self) -> Self::Expr;
+}
+
+/// A lazy mask-valued expression (element-wise comparisons and their combinations),
+/// consumed by [`select`](crate::select).
+pub trait MaskExpr: Sized {
+    /// The element mask type (`bool` or a packet mask).
+    type Mask: Mask;
+    /// The dimension.
+    type Dim: ArrayLength;
+    /// Element `i` of the mask.
+    fn mask(&self, i: usize) -> Self::Mask;
+
+    /// Element-wise and, lazily.
+    #[inline(always)]
+    fn and<R: MaskExpr<Mask = Self::Mask, Dim = Self::Dim>>(self, rhs: R) -> MaskAnd<Self, R> {
+        MaskAnd { lhs: self, rhs }
+    }
+    /// Element-wise or, lazily.
+    #[inline(always)]
+    fn or<R: MaskExpr<Mask = Self::Mask, Dim = Self::Dim>>(self, rhs: R) -> MaskOr<Self, R> {
+        MaskOr { lhs: self, rhs }
+    }
+    /// Element-wise not, lazily.
+    #[inline(always)]
+    fn not(self) -> MaskNot<Self> {
+        MaskNot { inner: self }
+    }
+    /// Are all elements (all lanes) true?
+    #[inline]
+    fn all(&self) -> bool {
+        (0..Self::Dim::USIZE).all(|i| self.mask(i).all())
+    }
+    /// Is any element (any lane) true?
+    #[inline]
+    fn any(&self) -> bool {
+        (0..Self::Dim::USIZE).any(|i| self.mask(i).any())
+    }
+    /// Evaluates into a vector of masks.
+    #[inline]
+    fn eval(self) -> Vector<Self::Mask, Self::Dim> {
+        Vector::from_fn(|i| self.mask(i))
+    }
+}
+
+/// A scalar broadcast to every element: the right operand of `v * 2.0`.
+#[must_use = "expressions are lazy: call .eval() or assign them to compute"]
+#[derive(Clone, Copy, Debug)]
+pub struct Splat<T, N> {
+    pub(crate) value: T,
+    pub(crate) dim: PhantomData<N>,
+}
+
+impl<T, N> Splat<T, N> {
+    /// A broadcast of `value`.
+    #[inline(always)]
+    pub fn new(value: T) -> Self {
+        Self {
+            value,
+            dim: PhantomData,
+        }
+    }
+}
+
+/// An owned vector used as a leaf (`a + b` where `a` and `b` are moved in).
+#[must_use = "expressions are lazy: call .eval() or assign them to compute"]
+#[derive(Clone, Debug)]
+pub struct Owned<T, N: ArrayLength>(pub Vector<T, N>);
+
+impl<T: Copy, N: ArrayLength> Copy for Owned<T, N> where Vector<T, N>: Copy {}
+
+/// An element-wise binary operation `O(lhs, rhs)`: `+ - * /`, `min`, `max`.
+#[must_use = "expressions are lazy: call .eval() or assign them to compute"]
+#[derive(Clone, Copy, Debug)]
+pub struct Binary<L, R, O> {
+    pub(crate) lhs: L,
+    pub(crate) rhs: R,
+    pub(crate) op: PhantomData<O>,
+}
+
+impl<L, R, O> Binary<L, R, O> {
+    /// The node `O(lhs, rhs)`.
+    #[inline(always)]
+    pub fn new(lhs: L, rhs: R) -> Self {
+        Self {
+            lhs,
+            rhs,
+            op: PhantomData,
+        }
+    }
+}
+
+/// An element-wise unary operation `O(inner)`: `-`, `abs`, `sqrt`, `recip`.
+#[must_use = "expressions are lazy: call .eval() or assign them to compute"]
+#[derive(Clone, Copy, Debug)]
+pub struct Unary<E, O> {
+    pub(crate) inner: E,
+    pub(crate) op: PhantomData<O>,
+}
+
+impl<E, O> Unary<E, O> {
+    /// The node `O(inner)`.
+    #[inline(always)]
+    pub fn new(inner: E) -> Self {
+        Self {
+            inner,
+            op: PhantomData,
+        }
+    }
+}
+
+/// Fused multiply-add $a \cdot b + c$ per element, with one rounding.
+#[must_use = "expressions are lazy: call .eval() or assign them to compute"]
+#[derive(Clone, Copy, Debug)]
+pub struct MulAdd<A, B, C> {
+    pub(crate) a: A,
+    pub(crate) b: B,
+    pub(crate) c: C,
+}
+
+/// Per-element choice `if mask { a } else { b }`.
+#[must_use = "expressions are lazy: call .eval() or assign them to compute"]
+#[derive(Clone, Copy, Debug)]
+pub struct Select<M, A, B> {
+    pub(crate) mask: M,
+    pub(crate) a: A,
+    pub(crate) b: B,
+}
+
+/// A user function applied to every element.
+#[must_use = "expressions are lazy: call .eval() or assign them to compute"]
+#[derive(Clone, Copy)]
+pub struct Map<E, F> {
+    pub(crate) inner: E,
+    pub(crate) f: F,
+}
+
+/// An element-wise comparison producing a mask.
+#[must_use = "expressions are lazy: call .eval() or use them in select"]
+#[derive(Clone, Copy, Debug)]
+pub struct Compare<L, R, O> {
+    pub(crate) lhs: L,
+    pub(crate) rhs: R,
+    pub(crate) op: PhantomData<O>,
+}
+
+impl<L, R, O> Compare<L, R, O> {
+    /// The comparison node `O(lhs, rhs)`.
+    #[inline(always)]
+    pub fn new(lhs: L, rhs: R) -> Self {
+        Self {
+            lhs,
+            rhs,
+            op: PhantomData,
+        }
+    }
+}
+
+/// Element-wise `lhs and rhs` on masks.
+#[must_use = "expressions are lazy: call .eval() or use them in select"]
+#[derive(Clone, Copy, Debug)]
+pub struct MaskAnd<L, R> {
+    pub(crate) lhs: L,
+    pub(crate) rhs: R,
+}
+
+/// Element-wise `lhs or rhs` on masks.
+#[must_use = "expressions are lazy: call .eval() or use them in select"]
+#[derive(Clone, Copy, Debug)]
+pub struct MaskOr<L, R> {
+    pub(crate) lhs: L,
+    pub(crate) rhs: R,
+}
+
+/// Element-wise `not inner` on masks.
+#[must_use = "expressions are lazy: call .eval() or use them in select"]
+#[derive(Clone, Copy, Debug)]
+pub struct MaskNot<E> {
+    pub(crate) inner: E,
+}
+
+/// Per-element choice between two expressions: `if mask[i] { a[i] } else { b[i] }`.
+///
+/// For packets the choice is per lane. Both `a` and `b` are evaluated for every element
+/// (no branches), which is what SIMD blends do.
+///
+/// # Examples
+/// ```
+/// use vecexpr::{select, vec3, Expr};
+/// let a = vec3(1.0f32, -2.0, 3.0);
+/// let zero = vec3(0.0f32, 0.0, 0.0);
+/// let relu = select(a.gt(&zero), &a, &zero).eval();
+/// assert_eq!(relu, vec3(1.0, 0.0, 3.0));
+/// ```
+#[inline(always)]
+pub fn select<T, N, M, A, B>(mask: M, a: A, b: B) -> Select<M, A::Expr, B::Expr>
+where
+    T: Scalar,
+    N: ArrayLength,
+    M: MaskExpr<Mask = T::Mask, Dim = N>,
+    A: Operand<T, N>,
+    B: Operand<T, N>,
+{
+    Select {
+        mask,
+        a: a.into_expr(),
+        b: b.into_expr(),
+    }
+}

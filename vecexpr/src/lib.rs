@@ -1,0 +1,107 @@
+//! Compile-time-generic vector math with lazy, fused expression templates.
+//!
+//! A [`Vector<T, N>`] stores `N` elements of a [`Scalar`] `T`; `N` is a typenum type, so
+//! the dimension is part of the type and a mismatch is a compile error. `T` is `f32`,
+//! `f64`, or a [`Packet`] of 4, 8 or 16 lanes, so one generic formula serves a single
+//! vector and a structure-of-arrays packet of rays alike.
+//!
+//! # Expressions are data; evaluation is one loop
+//! Operators on vectors do not compute: `&a * &b + &c * &d - &e` builds a tree of small
+//! generic structs ([`Binary`], [`Unary`], [`Splat`], ...) holding references to the
+//! leaves. The tree is computed only by [`Expr::eval`] or [`Vector::assign`], which run a
+//! single loop asking the root for element `i` ([`Expr::coeff`]); each node asks its
+//! children for element `i` and applies its operation. After inlining, the whole tree is
+//! one fused loop body with no temporaries, whatever its depth.
+//!
+//! Reductions ([`Expr::dot`], [`Expr::sum`], [`Expr::length`], ...) consume an expression
+//! and evaluate each child once. Operations that need a child more than once
+//! ([`Expr::normalize`], [`Expr::cross`], [`Expr::reflect`], [`Expr::refract`]) first
+//! evaluate it into a vector.
+//!
+//! ```
+//! use vecexpr::{vec3, Expr};
+//! let i = vec3(1.0f32, -1.0, 0.0);
+//! let n = vec3(0.0f32, 1.0, 0.0);
+//! // R = I - 2 N (N·I), written out; `reflect` computes the same.
+//! let r = (&i - &n * (2.0 * n.dot(&i))).eval();
+//! assert_eq!(r, i.reflect(&n));
+//! ```
+//!
+//! A dimension mismatch does not compile:
+//! ```compile_fail
+//! use vecexpr::{Vector, Expr, typenum::{U3, U4}};
+//! let a = Vector::<f32, U3>::splat(1.0);
+//! let b = Vector::<f32, U4>::splat(1.0);
+//! let c = (&a + &b).eval();
+//! ```
+//! nor does mixing scalar types:
+//! ```compile_fail
+//! use vecexpr::{vec3, Expr};
+//! let c = (&vec3(1.0f32, 2.0, 3.0) + &vec3(1.0f64, 2.0, 3.0)).eval();
+//! ```
+//! and aliasing the destination of an assignment is refused by the borrow checker:
+//! ```compile_fail
+//! use vecexpr::vec3;
+//! let mut a = vec3(1.0f32, 2.0, 3.0);
+//! let b = vec3(1.0f32, 2.0, 3.0);
+//! a.assign(&a + &b);
+//! ```
+//!
+//! # Packets
+//! ```
+//! use vecexpr::{Packet, Vector, Expr, Scalar, typenum::{U3, U16}};
+//! type P = Packet<f32, U16>;
+//! // Sixteen incident directions and normals in SoA form.
+//! let i = Vector::<P, U3>::from_fn(|c| P::from_fn(|l| if c == 1 { -1.0 } else { l as f32 }));
+//! let n = Vector::<P, U3>::from_fn(|c| P::splat(if c == 1 { 1.0 } else { 0.0 }));
+//! let r = i.reflect(&n); // the same source as for one f32 ray
+//! assert_eq!(r[1], P::splat(1.0));
+//! ```
+//!
+//! # Fused multiply-add
+//! Rust never contracts `a * b + c` into an FMA, so results are reproducible across
+//! targets. Ask for it with [`Expr::mul_add`]; it changes the last bits.
+//!
+//! # Compile-time computation
+//! [`powi`] unrolls integer powers through typenum; [`Vector::extend`] and
+//! [`Vector::truncate`] compute dimensions `N ± 1` at compile time.
+
+#![warn(missing_docs)]
+
+pub use generic_array;
+pub use typenum;
+
+pub mod assign;
+pub mod expr;
+mod eval;
+mod geometry;
+mod meta;
+pub mod op;
+mod ops;
+mod packet;
+mod scalar;
+mod vector;
+
+pub use expr::{
+    select, Binary, Compare, Expr, Map, MaskAnd, MaskExpr, MaskNot, MaskOr, MulAdd, Operand,
+    Owned, Select, Splat, Unary,
+};
+pub use meta::{powi, Pow};
+pub use packet::{Packet, PacketMask};
+pub use scalar::{LaneBits, Mask, Real, Scalar};
+pub use vector::{approx_eq_scalar, vec2, vec3, vec4, LengthMismatch, Vector};
+
+/// A 3-vector of `T`.
+pub type Vec3<T> = Vector<T, typenum::U3>;
+/// A 4-vector of `T`.
+pub type Vec4<T> = Vector<T, typenum::U4>;
+/// Eight `f32` lanes (one AVX2 register).
+pub type F32x8 = Packet<f32, typenum::U8>;
+/// Sixteen `f32` lanes (one AVX-512 register).
+pub type F32x16 = Packet<f32, typenum::U16>;
+/// Four `f32` lanes (one SSE register).
+pub type F32x4 = Packet<f32, typenum::U4>;
+/// Four `f64` lanes (one AVX2 register).
+pub type F64x4 = Packet<f64, typenum::U4>;
+/// Eight `f64` lanes (one AVX-512 register).
+pub type F64x8 = Packet<f64, typenum::U8>;
