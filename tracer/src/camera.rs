@@ -1,0 +1,77 @@
+//! The pinhole camera of the thesis: position $C_p$, direction $C_d$, up $C_u$ and left
+//! $C_l$, with the angle of view and aspect folded into the lengths of $C_u$ and $C_l$.
+
+use crate::scene::desc::CameraDesc;
+use vecexpr::{vec3, Expr, Real, Vec3};
+
+/// A camera for an image of a given size.
+///
+/// For image-plane coordinates $(\hat x, \hat y)$ in pixels (continuous: pixel $(i, j)$
+/// covers $[i, i+1) \times [j, j+1)$), $x = 2\hat x / w - 1$ and $y = 1 - 2\hat y / h$,
+/// and the ray direction is $\mathrm{normalize}(C_d + C_l x + C_u y)$ where
+/// $|C_u| = \tan(\alpha/2)$ and $|C_l| = \frac{w}{h}\tan(\alpha/2)$ for the vertical
+/// angle of view $\alpha$. So the vertical angle stays fixed when the width changes.
+///
+/// NFF measures the angle between the centres of the top and bottom pixel rows; here it
+/// spans the image edges, a difference of one pixel in $h$. $C_l$ points to the image's
+/// right-hand side ($x > 0$) so that a right-handed scene is seen unmirrored.
+#[derive(Clone, Copy, Debug)]
+pub struct Camera<T: Real> {
+    /// Eye position $C_p$.
+    pub position: Vec3<T>,
+    /// Unit view direction $C_d$.
+    pub dir: Vec3<T>,
+    /// Image-plane up vector $C_u$, of length $\tan(\alpha/2)$.
+    pub up: Vec3<T>,
+    /// Image-plane horizontal vector $C_l$, of length $\frac{w}{h}\tan(\alpha/2)$.
+    pub left: Vec3<T>,
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+}
+
+impl<T: Real> Camera<T> {
+    /// Builds the camera from NFF's `from`, `at`, `up`, `angle` for a `width` x `height`
+    /// image. A degenerate `up` (parallel to the view direction) is replaced by the axis
+    /// least aligned with the view.
+    pub fn new(desc: &CameraDesc, width: u32, height: u32) -> Self {
+        let c = |p: [f64; 3]| vec3(T::from_f64(p[0]), T::from_f64(p[1]), T::from_f64(p[2]));
+        let position = c(desc.from);
+        let dir = (c(desc.at) - &position).normalize();
+        let mut right = dir.cross(&c(desc.up));
+        if right.length_squared() <= T::EPSILON * T::EPSILON {
+            // up is parallel to the view: pick the axis least aligned with dir.
+            let a = dir.abs().eval();
+            let axis = if a[0] <= a[1] && a[0] <= a[2] {
+                0
+            } else if a[1] <= a[2] {
+                1
+            } else {
+                2
+            };
+            right = dir.cross(&Vec3::<T>::unit(axis));
+        }
+        let right = right.normalize();
+        let up = right.cross(&dir);
+        let half = T::from_f64((desc.angle_deg.to_radians() * 0.5).tan());
+        let aspect = T::from_f64(width as f64 / height.max(1) as f64);
+        Self {
+            position,
+            dir,
+            up: (&up).scale(half).eval(),
+            left: (&right).scale(half * aspect).eval(),
+            width,
+            height,
+        }
+    }
+
+    /// The unit direction through image-plane point $(\hat x, \hat y)$ (pixels).
+    #[inline]
+    pub fn direction(&self, px: T, py: T) -> Vec3<T> {
+        let two = T::from_f64(2.0);
+        let x = two * px / T::from_f64(self.width as f64) - T::ONE;
+        let y = T::ONE - two * py / T::from_f64(self.height as f64);
+        (&self.dir + (&self.left).scale(x) + (&self.up).scale(y)).normalize()
+    }
+}

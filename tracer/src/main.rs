@@ -1,0 +1,246 @@
+//! The `tracer` command line: `tracer render SCENE -o OUT [options]`.
+//!
+//! Exit status 0 on success, 2 on bad input or a failed write, with one line
+//! `FILE:LINE: message` (or `FILE: message`) on stderr and no output file left behind.
+
+use clap::{Parser, Subcommand, ValueEnum};
+use serde_json::json;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+use tracer::geometry::AccelOptions;
+use tracer::render::{render_with_stats, Settings};
+use tracer::scene::{self, desc::SceneDesc};
+use tracer::world::Scene;
+use vecexpr::Real;
+
+#[derive(Parser, Debug)]
+#[command(name = "tracer", version, about = "A Whitted ray tracer built on vecexpr")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Render a scene (.nff, .nff.gz or .obj) to an image (.png or .pfm).
+    Render(RenderArgs),
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum Precision {
+    F32,
+    F64,
+}
+
+#[derive(clap::Args, Debug)]
+struct RenderArgs {
+    /// Scene file: NFF (.nff, .nff.gz) or Wavefront OBJ (.obj).
+    scene: PathBuf,
+    /// Output image: .png (8-bit) or .pfm (linear float).
+    #[arg(short, long)]
+    output: PathBuf,
+    /// Image width (default: the scene's resolution).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=65536))]
+    width: Option<u32>,
+    /// Image height (default: the scene's resolution); the vertical angle of view is kept.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=65536))]
+    height: Option<u32>,
+    /// Antialiasing: an AA x AA grid of rays per pixel.
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=64))]
+    aa: u32,
+    /// Maximum ray depth (1 = eye rays only).
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=64))]
+    depth: u32,
+    /// Adaptive termination: skip secondary rays whose accumulated weight is below T (0 = off).
+    #[arg(long, default_value_t = 0.0, value_parser = parse_threshold)]
+    threshold: f64,
+    /// Worker threads (default: all cores).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    threads: Option<u32>,
+    /// Arithmetic precision of the whole tracer.
+    #[arg(long, value_enum, default_value_t = Precision::F32)]
+    precision: Precision,
+    /// SPD testing rules: corner rays averaged into pixels, depth 5, no adaptive cutoff.
+    #[arg(long)]
+    spd: bool,
+    /// Write statistics (times, ray counts, primitives, BVH, settings) as JSON.
+    #[arg(long, value_name = "STATS.json")]
+    stats: Option<PathBuf>,
+    /// Trace without the BVH (brute force), for comparison.
+    #[arg(long)]
+    no_bvh: bool,
+    /// OBJ camera position (x,y,z); NFF scenes carry their own camera.
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    from: Option<[f64; 3]>,
+    /// OBJ camera target (x,y,z).
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    at: Option<[f64; 3]>,
+    /// OBJ camera up vector (x,y,z).
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    up: Option<[f64; 3]>,
+    /// OBJ camera vertical angle of view in degrees.
+    #[arg(long)]
+    angle: Option<f64>,
+}
+
+fn parse_threshold(s: &str) -> Result<f64, String> {
+    let v: f64 = s.parse().map_err(|_| format!("`{s}` is not a number"))?;
+    if !(0.0..=1.0).contains(&v) {
+        return Err(format!("threshold must be in [0, 1], got {v}"));
+    }
+    Ok(v)
+}
+
+fn parse_vec3(s: &str) -> Result<[f64; 3], String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    if parts.len() != 3 {
+        return Err(format!("expected x,y,z, got `{s}`"));
+    }
+    let mut v = [0.0; 3];
+    for (o, p) in v.iter_mut().zip(parts) {
+        *o = p
+            .parse::<f64>()
+            .ok()
+            .filter(|x| x.is_finite())
+            .ok_or_else(|| format!("`{p}` is not a finite number"))?;
+    }
+    Ok(v)
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match cli.command {
+        Command::Render(args) => match run_render(&args) {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(msg) => {
+                eprintln!("{msg}");
+                ExitCode::from(2)
+            }
+        },
+    }
+}
+
+fn load(args: &RenderArgs) -> Result<SceneDesc, String> {
+    let is_obj = args
+        .scene
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("obj"));
+    if is_obj {
+        let opts = scene::ObjOptions {
+            from: args.from,
+            at: args.at,
+            up: args.up,
+            angle: args.angle,
+            ..scene::ObjOptions::default()
+        };
+        scene::load_obj(&args.scene, &opts).map_err(|e| e.to_string())
+    } else {
+        scene::load(&args.scene).map_err(|e| e.to_string())
+    }
+}
+
+fn run_render(args: &RenderArgs) -> Result<(), String> {
+    let start = Instant::now();
+    let out_ext = args
+        .output
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    if !matches!(out_ext.as_deref(), Some("png" | "pfm")) {
+        return Err(format!(
+            "{}: output must end in .png or .pfm",
+            args.output.display()
+        ));
+    }
+    let desc = load(args)?;
+    let parse_ms = ms(start);
+    let settings = Settings {
+        width: args.width,
+        height: args.height,
+        aa: args.aa,
+        depth: args.depth,
+        threshold: args.threshold,
+        threads: args.threads.map(|t| t as usize),
+        spd: args.spd,
+        progress: true,
+    };
+    let accel = AccelOptions {
+        use_bvh: !args.no_bvh,
+        ..AccelOptions::default()
+    };
+    match args.precision {
+        Precision::F32 => render_in::<f32>(args, &desc, &settings, &accel, start, parse_ms),
+        Precision::F64 => render_in::<f64>(args, &desc, &settings, &accel, start, parse_ms),
+    }
+}
+
+fn ms(since: Instant) -> f64 {
+    since.elapsed().as_secs_f64() * 1e3
+}
+
+fn render_in<T: Real>(
+    args: &RenderArgs,
+    desc: &SceneDesc,
+    settings: &Settings,
+    accel: &AccelOptions,
+    start: Instant,
+    parse_ms: f64,
+) -> Result<(), String> {
+    let build_start = Instant::now();
+    let scene = Scene::<T>::from_desc(desc, accel);
+    let build_ms = ms(build_start);
+    let (image, stats) = render_with_stats(&scene, settings);
+    image
+        .save(&args.output)
+        .map_err(|e| format!("{}: cannot write image: {e}", args.output.display()))?;
+    let total_ms = ms(start);
+    if let Some(path) = &args.stats {
+        let g = scene.geometry.stats();
+        let (w, h) = settings.size(&scene);
+        let report = json!({
+            "scene": args.scene.display().to_string(),
+            "times_ms": { "parse": parse_ms, "build": build_ms, "trace": stats.trace_ms, "total": total_ms },
+            "rays": stats.rays,
+            "primitives": {
+                "sphere": g.spheres, "triangle": g.triangles, "polygon": g.polygons,
+                "patch": g.patches, "cone": g.cones,
+                "total": desc.shapes.len(),
+            },
+            "bvh": { "nodes": g.bvh_nodes, "depth": g.bvh_depth, "bytes": g.bvh_bytes, "build_ms": g.build_ms },
+            "image": { "width": w, "height": h },
+            "settings": {
+                "width": w, "height": h, "aa": if settings.spd { 1 } else { settings.aa },
+                "depth": settings.limits::<T>().max_depth,
+                "threshold": if settings.spd { 0.0 } else { settings.threshold },
+                "threads": settings.threads.unwrap_or_else(rayon::current_num_threads),
+                "precision": if std::mem::size_of::<T>() == 4 { "f32" } else { "f64" },
+                "spd": settings.spd, "bvh": accel.use_bvh,
+                "output": args.output.display().to_string(),
+            },
+        });
+        write_json(path, &report)?;
+    }
+    if settings.spd {
+        let r = stats.rays;
+        eprintln!(
+            "rays: eye {} reflection {} refraction {} shadow {} total {}",
+            r.eye,
+            r.reflection,
+            r.refraction,
+            r.shadow,
+            r.total()
+        );
+    }
+    Ok(())
+}
+
+fn write_json(path: &Path, value: &serde_json::Value) -> Result<(), String> {
+    let text = serde_json::to_string_pretty(value).map_err(|e| e.to_string())?;
+    tracer::image::write_atomic(path, |w| {
+        use std::io::Write;
+        w.write_all(text.as_bytes())?;
+        w.write_all(b"\n")
+    })
+    .map_err(|e| format!("{}: cannot write stats: {e}", path.display()))
+}

@@ -1,0 +1,145 @@
+//! Whitted shading: Phong local illumination with shadow rays, plus recursive mirror
+//! reflection and Snell refraction (Whitted 1980, "An improved illumination model for
+//! shaded display").
+//!
+//! $I = K_a I_a C + \sum_{l \text{ visible}} \left(K_d C I_l (L \cdot N) + K_s I_l (R \cdot V)^n\right)
+//! + K_r I_r + K_t C I_t$, with $R = 2N(N \cdot L) - L$ the mirrored light direction.
+//! Escaping rays see the background colour.
+
+use crate::ray::{Hit, Ray};
+use crate::stats::RayCounts;
+use crate::world::Scene;
+use vecexpr::{Expr, Real, Vec3};
+
+/// How deep and how far the recursion goes, and SPD's counting rules.
+#[derive(Clone, Copy, Debug)]
+pub struct TraceLimits<T: Real> {
+    /// Maximum ray depth: eye rays are depth 1 and rays at this depth spawn no
+    /// secondary rays (so 1 means local shading only).
+    pub max_depth: u32,
+    /// Adaptive termination: a secondary ray is spawned only if its accumulated weight
+    /// (product of the $K_r$/$K_t$ along its path) is at least this. 0 disables it.
+    pub threshold: T,
+    /// SPD rules: transmitting surfaces spawn a reflection ray even when `Ks` is 0.
+    pub spd: bool,
+}
+
+/// Offsets a ray origin off the surface along the face normal, by a distance that scales
+/// with the magnitude of the coordinates (a few hundred ULPs of the largest one), so the
+/// new ray does not re-hit the surface it starts on.
+#[inline]
+pub fn offset_origin<T: Real>(p: &Vec3<T>, n: &Vec3<T>) -> Vec3<T> {
+    let scale = p.abs().max_element().max(T::ONE);
+    let eps = scale * T::EPSILON * T::from_f64(512.0);
+    (p + n.scale(eps)).eval()
+}
+
+/// Traces `ray` at `depth` (1 for eye rays) with accumulated `weight`, returning its
+/// radiance and counting the secondary rays it spawns.
+pub fn trace<T: Real>(
+    scene: &Scene<T>,
+    ray: &Ray<T>,
+    depth: u32,
+    weight: T,
+    limits: &TraceLimits<T>,
+    counts: &mut RayCounts,
+) -> Vec3<T> {
+    match scene.intersect(ray) {
+        Some(hit) => shade(scene, ray, &hit, depth, weight, limits, counts),
+        None => scene.background,
+    }
+}
+
+/// Local illumination plus the recursive terms at `hit`.
+#[allow(clippy::too_many_arguments)]
+pub fn shade<T: Real>(
+    scene: &Scene<T>,
+    ray: &Ray<T>,
+    hit: &Hit<T>,
+    depth: u32,
+    weight: T,
+    limits: &TraceLimits<T>,
+    counts: &mut RayCounts,
+) -> Vec3<T> {
+    let m = &scene.materials[hit.material as usize];
+    let d = &ray.dir;
+    // Face the normals toward the incoming ray: every surface is two-sided.
+    let entering = hit.geometric_normal.dot(d) < T::ZERO;
+    let (ng, ns) = if entering {
+        (hit.geometric_normal, hit.shading_normal)
+    } else {
+        ((-&hit.geometric_normal).eval(), (-&hit.shading_normal).eval())
+    };
+    let p = &hit.point;
+    let v = (-d).eval();
+
+    // Ambient.
+    let mut color = (&m.color).scale(m.ka).eval();
+
+    // Direct light with shadow rays.
+    let above = offset_origin(p, &ng);
+    for light in &scene.lights {
+        let to_light = (&light.position - p).eval();
+        let dist = to_light.length();
+        if dist.is_nan() || dist <= T::ZERO {
+            continue;
+        }
+        let l = (&to_light).scale(dist.recip()).eval();
+        // No shadow ray toward a light behind the surface or without intensity.
+        if ng.dot(&l) <= T::ZERO || light.intensity.max_element() <= T::ZERO {
+            continue;
+        }
+        counts.shadow += 1;
+        let shadow = Ray::new(above, l);
+        if scene.occluded(&shadow, dist) {
+            continue;
+        }
+        let ndotl = ns.dot(&l).max(T::ZERO);
+        if m.kd > T::ZERO && ndotl > T::ZERO {
+            color += (&m.color * &light.intensity).scale(m.kd * ndotl);
+        }
+        if m.ks > T::ZERO {
+            // R = 2 N (N·L) - L, the mirror direction of the light.
+            let r = (-&l).reflect(&ns);
+            let rv = r.dot(&v);
+            if rv > T::ZERO {
+                color += (&light.intensity).scale(m.ks * rv.powf(m.shine));
+            }
+        }
+    }
+
+    if depth >= limits.max_depth {
+        return color;
+    }
+
+    // Secondary rays: refraction first, since total internal reflection moves its weight
+    // to the reflection ray.
+    let mut kr = m.ks;
+    if m.kt > T::ZERO {
+        let eta = if entering { m.ior.recip() } else { m.ior };
+        match d.refract(&ns, eta) {
+            Some(t_dir) if wanted(weight * m.kt, limits) => {
+                counts.refraction += 1;
+                let below = offset_origin(p, &(-&ng).eval());
+                let r = Ray::new(below, t_dir.normalize());
+                let c = trace(scene, &r, depth + 1, weight * m.kt, limits, counts);
+                color += (&c * &m.color).scale(m.kt);
+            }
+            Some(_) => {}
+            None => kr += m.kt,
+        }
+    }
+    let spawn_reflection = kr > T::ZERO || (limits.spd && m.kt > T::ZERO);
+    if spawn_reflection && wanted(weight * kr, limits) {
+        counts.reflection += 1;
+        let r = Ray::new(above, d.reflect(&ns).normalize());
+        let c = trace(scene, &r, depth + 1, weight * kr, limits, counts);
+        color += c.scale(kr);
+    }
+    color
+}
+
+#[inline]
+fn wanted<T: Real>(w: T, limits: &TraceLimits<T>) -> bool {
+    limits.threshold <= T::ZERO || w >= limits.threshold
+}
