@@ -9,11 +9,13 @@
 //!
 //! [`asm`] parses emitted assembly and computes the properties the checked-in dumps
 //! promise (instruction count, no call, no branch, no stack access, SIMD used);
-//! [`bounds`] reads the checked-in per-kernel limits; [`generate`] runs the compiler.
+//! [`bounds`] reads the checked-in per-kernel limits; [`generate`] runs the compiler;
+//! [`dump`] writes and reads the checked-in dump files.
 //! The integration test `tests/asm_check.rs` ties them together.
 
 pub mod asm;
 pub mod bounds;
+pub mod dump;
 pub mod generate;
 pub mod kernels;
 pub mod probes;

@@ -1,1 +1,11 @@
-//! Shared support code for the benchmarks.
+//! Shared support code for the benchmarks: fixed-seed input data, the eager vector
+//! types every operator of which materialises a temporary, the hand-written loops
+//! (the ceiling), the benchmark configuration, and the reading of criterion's results
+//! for `RESULTS.md` and the plot.
+
+pub mod config;
+pub mod data;
+pub mod eager;
+pub mod hand;
+pub mod results;
+pub mod run;

@@ -15,7 +15,11 @@ use tracer::world::Scene;
 use vecexpr::Real;
 
 #[derive(Parser, Debug)]
-#[command(name = "tracer", version, about = "A Whitted ray tracer built on vecexpr")]
+#[command(
+    name = "tracer",
+    version,
+    about = "A Whitted ray tracer built on vecexpr"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,

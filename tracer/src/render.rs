@@ -124,9 +124,9 @@ fn progress_bar(settings: &Settings, rows: u64) -> indicatif::ProgressBar {
         Some(rows),
         indicatif::ProgressDrawTarget::stderr(),
     );
-    if let Ok(style) =
-        indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} rows, {elapsed} elapsed, ETA {eta}")
-    {
+    if let Ok(style) = indicatif::ProgressStyle::with_template(
+        "{bar:40} {pos}/{len} rows, {elapsed} elapsed, ETA {eta}",
+    ) {
         bar.set_style(style);
     }
     bar
@@ -148,7 +148,11 @@ fn eye_sample<T: Real>(
 }
 
 fn to_rgb<T: Real>(c: &Vec3<T>) -> [f32; 3] {
-    [c[0].to_f64() as f32, c[1].to_f64() as f32, c[2].to_f64() as f32]
+    [
+        c[0].to_f64() as f32,
+        c[1].to_f64() as f32,
+        c[2].to_f64() as f32,
+    ]
 }
 
 /// An `aa` x `aa` grid of rays per pixel, averaged.
@@ -170,7 +174,8 @@ fn render_grid<T: Real>(scene: &Scene<T>, settings: &Settings) -> (Image, RayCou
             for (x, px) in row.iter_mut().enumerate() {
                 let mut sum = vec3(T::ZERO, T::ZERO, T::ZERO);
                 for j in 0..a {
-                    let sy = T::from_f64(y as f64) + (T::from_f64(j as f64) + T::from_f64(0.5)) * inv_a;
+                    let sy =
+                        T::from_f64(y as f64) + (T::from_f64(j as f64) + T::from_f64(0.5)) * inv_a;
                     for i in 0..a {
                         let sx = T::from_f64(x as f64)
                             + (T::from_f64(i as f64) + T::from_f64(0.5)) * inv_a;

@@ -68,7 +68,10 @@ pub fn shade<T: Real>(
     let (ng, ns) = if entering {
         (hit.geometric_normal, hit.shading_normal)
     } else {
-        ((-&hit.geometric_normal).eval(), (-&hit.shading_normal).eval())
+        (
+            (-&hit.geometric_normal).eval(),
+            (-&hit.shading_normal).eval(),
+        )
     };
     let p = &hit.point;
     let v = (-d).eval();

@@ -266,7 +266,14 @@ impl SceneBuilder {
     }
 
     /// Adds a cone or cylinder without caps.
-    pub fn add_cone(&mut self, base: P3, base_radius: f64, apex: P3, apex_radius: f64, material: u32) -> u32 {
+    pub fn add_cone(
+        &mut self,
+        base: P3,
+        base_radius: f64,
+        apex: P3,
+        apex_radius: f64,
+        material: u32,
+    ) -> u32 {
         self.push(
             Shape::Cone {
                 base,

@@ -141,7 +141,7 @@ pub(crate) fn sum<T: Scalar>(f: impl Fn(usize) -> T, n: usize) -> T {
             while width > 1 {
                 width /= 2;
                 for j in 0..width {
-                    acc[j] = acc[j] + acc[j + width];
+                    acc[j] += acc[j + width];
                 }
             }
             acc[0]

@@ -3,8 +3,8 @@
 //! [`crate::assign`]).
 
 use crate::expr::{
-    Binary, Compare, Expr, Map, MaskAnd, MaskExpr, MaskNot, MaskOr, MulAdd, Operand, Owned,
-    Select, Splat, Unary,
+    Binary, Compare, Expr, Map, MaskAnd, MaskExpr, MaskNot, MaskOr, MulAdd, Operand, Owned, Select,
+    Splat, Unary,
 };
 use crate::op::{BinaryOp, CompareOp, UnaryOp};
 use crate::packet::Packet;
@@ -211,4 +211,3 @@ macro_rules! lane_operand {
 }
 lane_operand!(f32);
 lane_operand!(f64);
-

@@ -72,8 +72,8 @@ pub use generic_array;
 pub use typenum;
 
 pub mod assign;
-pub mod expr;
 mod eval;
+pub mod expr;
 mod geometry;
 mod meta;
 pub mod op;
@@ -83,8 +83,8 @@ mod scalar;
 mod vector;
 
 pub use expr::{
-    select, Binary, Compare, Expr, Map, MaskAnd, MaskExpr, MaskNot, MaskOr, MulAdd, Operand,
-    Owned, Select, Splat, Unary,
+    select, Binary, Compare, Expr, Map, MaskAnd, MaskExpr, MaskNot, MaskOr, MulAdd, Operand, Owned,
+    Refracted, Select, Splat, Unary,
 };
 pub use meta::{powi, Pow};
 pub use packet::{Packet, PacketMask};

@@ -81,13 +81,19 @@ impl<T: Real, L: ArrayLength> Packet<T, L> {
     /// Smallest lane (NaN lanes follow the `min` rule of [`Scalar`]).
     #[inline]
     pub fn reduce_min(self) -> T {
-        self.0.iter().skip(1).fold(self.0[0], |a, &b| Scalar::min(a, b))
+        self.0
+            .iter()
+            .skip(1)
+            .fold(self.0[0], |a, &b| Scalar::min(a, b))
     }
 
     /// Largest lane.
     #[inline]
     pub fn reduce_max(self) -> T {
-        self.0.iter().skip(1).fold(self.0[0], |a, &b| Scalar::max(a, b))
+        self.0
+            .iter()
+            .skip(1)
+            .fold(self.0[0], |a, &b| Scalar::max(a, b))
     }
 
     #[inline(always)]
@@ -168,7 +174,7 @@ where
     }
     #[inline(always)]
     fn not(self) -> Self {
-        let mut out = self.clone();
+        let mut out = self;
         for i in 0..L::USIZE {
             out.0[i] = !self.0[i];
         }
@@ -307,7 +313,7 @@ where
     }
     #[inline(always)]
     fn mul_add(self, a: Self, b: Self) -> Self {
-        let mut out = self.clone();
+        let mut out = self;
         for i in 0..L::USIZE {
             out.0[i] = Scalar::mul_add(self.0[i], a.0[i], b.0[i]);
         }

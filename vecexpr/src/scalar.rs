@@ -55,7 +55,7 @@ pub trait Scalar:
     }
     /// Every lane set to `x` converted (rounded to nearest) to the lane type.
     #[inline(always)]
-    fn from_f64(x: f64) -> Self {
+    fn splat_f64(x: f64) -> Self {
         Self::splat(<Self::Elem as Real>::from_f64(x))
     }
     /// Lane-wise `if self < rhs { self } else { rhs }` (NaN gives `rhs`).

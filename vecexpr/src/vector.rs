@@ -167,7 +167,11 @@ impl<T: Scalar, N: ArrayLength> Vector<T, N> {
     /// If `i >= N`.
     #[inline]
     pub fn unit(i: usize) -> Self {
-        assert!(i < N::USIZE, "unit vector {i} out of range for dimension {}", N::USIZE);
+        assert!(
+            i < N::USIZE,
+            "unit vector {i} out of range for dimension {}",
+            N::USIZE
+        );
         Self::from_fn(|j| if i == j { T::one() } else { T::zero() })
     }
 
@@ -310,9 +314,9 @@ impl<T: Copy, N: ArrayLength> Vector<T, N> {
 
     /// Any dimension `M <= N`: the first `M` elements (`M > N` fails to compile).
     #[inline(always)]
-    pub fn resize_down<M: ArrayLength>(self) -> Vector<T, M>
+    pub fn resize_down<M>(self) -> Vector<T, M>
     where
-        M: typenum::IsLessOrEqual<N, Output = typenum::True>,
+        M: ArrayLength + typenum::IsLessOrEqual<N, Output = typenum::True>,
     {
         Vector::from_fn(|i| self.data[i])
     }

@@ -6,16 +6,14 @@
 //! ([`Expr::eval`], [`Vector::assign`](crate::Vector::assign)), one element at a time
 //! through [`Expr::coeff`] in the single loop of [`crate::assign`].
 
-use crate::op::{
-    AbsOp, EqOp, GeOp, GtOp, LeOp, LtOp, MaxOp, MinOp, MulOp, RecipOp, SqrtOp,
-};
+use crate::op::{AbsOp, EqOp, GeOp, GtOp, LeOp, LtOp, MaxOp, MinOp, MulOp, RecipOp, SqrtOp};
 use crate::scalar::Real;
-use typenum::U3;
 use crate::scalar::{Mask, Scalar};
 use crate::vector::Vector;
 use core::marker::PhantomData;
 use generic_array::ArrayLength;
 use typenum::Unsigned;
+use typenum::U3;
 
 /// A lazy vector-valued expression of dimension `Dim` over the scalar `Scalar`.
 ///
@@ -278,10 +276,7 @@ pub trait Expr: Sized {
         self,
         n: R,
         eta: Self::Scalar,
-    ) -> (
-        Vector<Self::Scalar, Self::Dim>,
-        <Self::Scalar as Scalar>::Mask,
-    ) {
+    ) -> Refracted<Self::Scalar, Self::Dim> {
         crate::geometry::refract(self.eval(), n.into_expr().eval(), eta)
     }
 }
@@ -303,8 +298,12 @@ pub trait Operand<T: Scalar, N: ArrayLength> {
     fn into_expr(self) -> Self::Expr;
 }
 
+/// The result of [`Expr::refract_masked`]: the refracted directions and the mask of
+/// lanes that refracted (false where totally internally reflected).
+pub type Refracted<T, N> = (Vector<T, N>, <T as Scalar>::Mask);
+
 /// A lazy mask-valued expression (element-wise comparisons and their combinations),
-/// consumed by [`select`](crate::select).
+/// consumed by [`crate::select`].
 pub trait MaskExpr: Sized {
     /// The element mask type (`bool` or a packet mask).
     type Mask: Mask;

@@ -1,0 +1,254 @@
+//! The probes: one exported, never-inlined function per kernel and type.
+//!
+//! Inputs come by reference and the result goes out through `&mut`, so nothing is
+//! optimised away and the body is only the kernel. Names say kernel, then type:
+//! `f32x3` is one `Vec3<f32>`, `f32x4` one padded 4-vector, `packet8`/`packet16` one SoA
+//! packet of 8 or 16 three-vectors (`Vec3<Packet<f32, U8|U16>>`), `glam_vec3a` the glam
+//! equivalent, `fma` the variant written with explicit fused multiply-adds (only checked
+//! on targets with FMA: plain `x86-64` turns each into a call to `fmaf`).
+//!
+//! Inspect any of them with `cargo asm -p asm-dumps --lib <name>` (cargo-show-asm), or
+//! read the checked-in dumps under `asm-dumps/dumps/<target>/`.
+
+use crate::kernels;
+use glam::{Mat3A, Vec3, Vec3A};
+use vecexpr::typenum::{U1024, U16, U3, U4, U8};
+use vecexpr::{Expr, Packet, Scalar, Vector};
+
+/// One `f32` 3-vector.
+pub type F32x3 = Vector<f32, U3>;
+/// One `f64` 3-vector.
+pub type F64x3 = Vector<f64, U3>;
+/// One `f32` 4-vector (a 3-vector padded with a zero `w`).
+pub type F32x4 = Vector<f32, U4>;
+/// Eight `f32` lanes.
+pub type P8 = Packet<f32, U8>;
+/// Sixteen `f32` lanes.
+pub type P16 = Packet<f32, U16>;
+/// Eight 3-vectors in SoA form.
+pub type Soa8 = Vector<P8, U3>;
+/// Sixteen 3-vectors in SoA form.
+pub type Soa16 = Vector<P16, U3>;
+/// A long vector of 1024 `f32`.
+pub type Long1k = Vector<f32, U1024>;
+
+// ----- reflect: R = I - 2 N (N·I) -------------------------------------------------------
+
+/// Reflects one `f32` 3-vector with vecexpr.
+#[unsafe(no_mangle)]
+#[inline(never)]
+pub fn reflect_f32x3(i: &F32x3, n: &F32x3, out: &mut F32x3) {
+    *out = i.reflect(n);
+}
+
+/// Reflects one `f64` 3-vector with vecexpr.
+#[unsafe(no_mangle)]
+#[inline(never)]
+pub fn reflect_f64x3(i: &F64x3, n: &F64x3, out: &mut F64x3) {
+    *out = i.reflect(n);
+}
+
+/// Reflects one padded `f32` 4-vector with vecexpr (`w = 0` stays 0).
+#[unsafe(no_mangle)]
+#[inline(never)]
+pub fn reflect_f32x4(i: &F32x4, n: &F32x4, out: &mut F32x4) {
+    *out = i.reflect(n);
+}
+
+/// Reflects eight rays in SoA form with vecexpr.
+#[unsafe(no_mangle)]
+#[inline(never)]
+pub fn reflect_packet8(i: &Soa8, n: &Soa8, out: &mut Soa8) {
+    *out = i.reflect(n);
+}
+
+/// Reflects sixteen rays in SoA form with vecexpr.
+#[unsafe(no_mangle)]
+#[inline(never)]
+pub fn reflect_packet16(i: &Soa16, n: &Soa16, out: &mut Soa16) {
+    *out = i.reflect(n);
+}
+
+/// Reflects one `f32` 3-vector written with explicit FMA:
+/// $R = \mathrm{fma}(-N, 2 (N \cdot I), I)$.
+#[unsafe(no_mangle)]
+#[inline(never)]
+pub fn reflect_fma_f32x3(i: &F32x3, n: &F32x3, out: &mut F32x3) {
+    let d = n.dot(i);
+    *out = (-n).mul_add(d + d, i).eval();
+}
+
+/// Reflects sixteen rays in SoA form written with explicit FMA.
+#[unsafe(no_mangle)]
+#[inline(never)]
+pub fn reflect_fma_packet16(i: &Soa16, n: &Soa16, out: &mut Soa16) {
+    let d = n.dot(i);
+    *out = (-n).mul_add(d + d, i).eval();
+}
+
+/// glam's `Vec3A::reflect`, the comparison for [`reflect_f32x3`].
+#[unsafe(no_mangle)]
+#[inline(never)]
+pub fn reflect_glam_vec3a(i: &Vec3A, n: &Vec3A, out: &mut Vec3A) {
+    *out = i.reflect(*n);
+}
+
+/// glam's unpadded `Vec3::reflect`.
+#[unsafe(no_mangle)]
+#[inline(never)]
+pub fn reflect_glam_vec3(i: &Vec3, n: &Vec3, out: &mut Vec3) {
+    *out = i.reflect(*n);
+}
+
+// ----- refract ---------------------------------------------------------------------------
+
+/// Refracts one `f32` 3-vector (zero on total internal reflection, as glam does).
+#[unsafe(no_mangle)]
+#[inline(never)]
+pub fn refract_f32x3(i: &F32x3, n: &F32x3, eta: &f32, out: &mut F32x3) {
+    *out = i.refract_masked(n, *eta).0;
+}
+
+/// Refracts sixteen rays in SoA form (zero in totally internally reflected lanes).
+#[unsafe(no_mangle)]
+#[inline(never)]
+pub fn refract_packet16(i: &Soa16, n: &Soa16, eta: &P16, out: &mut Soa16) {
+    *out = i.refract_masked(n, *eta).0;
+}
+
+/// glam's `Vec3A::refract`.
+#[unsafe(no_mangle)]
+#[inline(never)]
+pub fn refract_glam_vec3a(i: &Vec3A, n: &Vec3A, eta: &f32, out: &mut Vec3A) {
+    *out = i.refract(*n, *eta);
+}
+
+// ----- normalize -------------------------------------------------------------------------
+
+/// Normalises one `f32` 3-vector (robust: a cold out-of-line path handles zero,
+/// tiny and huge vectors).
+#[unsafe(no_mangle)]
+#[inline(never)]
+pub fn normalize_f32x3(v: &F32x3, out: &mut F32x3) {
+    *out = v.normalize();
+}
+
+/// Normalises sixteen 3-vectors in SoA form.
+#[unsafe(no_mangle)]
+#[inline(never)]
+pub fn normalize_packet16(v: &Soa16, out: &mut Soa16) {
+    *out = v.normalize();
+}
+
+/// glam's `Vec3A::normalize` (no check for zero or overflow).
+#[unsafe(no_mangle)]
+#[inline(never)]
+pub fn normalize_glam_vec3a(v: &Vec3A, out: &mut Vec3A) {
+    *out = v.normalize();
+}
+
+// ----- reflect then normalize (the packet target kernel) --------------------------------
+
+/// Reflects and normalises sixteen rays in SoA form.
+#[unsafe(no_mangle)]
+#[inline(never)]
+pub fn reflect_normalize_packet16(i: &Soa16, n: &Soa16, out: &mut Soa16) {
+    *out = kernels::reflect_normalize(i, n);
+}
+
+/// Reflects and normalises eight rays in SoA form.
+#[unsafe(no_mangle)]
+#[inline(never)]
+pub fn reflect_normalize_packet8(i: &Soa8, n: &Soa8, out: &mut Soa8) {
+    *out = kernels::reflect_normalize(i, n);
+}
+
+/// glam: `i.reflect(n).normalize()` on one `Vec3A`.
+#[unsafe(no_mangle)]
+#[inline(never)]
+pub fn reflect_normalize_glam_vec3a(i: &Vec3A, n: &Vec3A, out: &mut Vec3A) {
+    *out = i.reflect(*n).normalize();
+}
+
+// ----- ray/sphere ------------------------------------------------------------------------
+
+/// Ray/sphere distance for one ray ($+\infty$ on a miss).
+#[unsafe(no_mangle)]
+#[inline(never)]
+pub fn sphere_hit_f32x3(o: &F32x3, d: &F32x3, center: &F32x3, radius: &f32, t: &mut f32) {
+    *t = kernels::sphere_hit(o, d, center, *radius, 1e-4);
+}
+
+/// Ray/sphere distances for sixteen rays in SoA form against one sphere (splat).
+#[unsafe(no_mangle)]
+#[inline(never)]
+pub fn sphere_hit_packet16(o: &Soa16, d: &Soa16, center: &Soa16, radius: &P16, t: &mut P16) {
+    *t = kernels::sphere_hit(o, d, center, *radius, P16::splat(1e-4));
+}
+
+// ----- other kernels of the benchmarks ----------------------------------------------------
+
+/// `a*b + c*d - e` over 1024 `f32`, fused by vecexpr.
+#[unsafe(no_mangle)]
+#[inline(never)]
+pub fn abcde_f32_1k(a: &Long1k, b: &Long1k, c: &Long1k, d: &Long1k, e: &Long1k, out: &mut Long1k) {
+    kernels::abcde([a, b, c, d, e], out);
+}
+
+/// `a*b + c*d - e` over 1024 `f32`, the hand-written loop.
+#[unsafe(no_mangle)]
+#[inline(never)]
+pub fn abcde_hand_f32_1k(
+    a: &[f32; 1024],
+    b: &[f32; 1024],
+    c: &[f32; 1024],
+    d: &[f32; 1024],
+    e: &[f32; 1024],
+    out: &mut [f32; 1024],
+) {
+    for i in 0..1024 {
+        out[i] = a[i] * b[i] + c[i] * d[i] - e[i];
+    }
+}
+
+/// $y \leftarrow a x + y$ over 1024 `f32`.
+#[unsafe(no_mangle)]
+#[inline(never)]
+pub fn axpy_f32_1k(a: &f32, x: &Long1k, y: &mut Long1k) {
+    *y += x * *a;
+}
+
+/// $x \cdot y$ over 1024 `f32` (32 interleaved partial sums).
+#[unsafe(no_mangle)]
+#[inline(never)]
+pub fn dot_f32_1k(x: &Long1k, y: &Long1k, out: &mut f32) {
+    *out = x.dot(y);
+}
+
+/// Cross product of two `f32` 3-vectors.
+#[unsafe(no_mangle)]
+#[inline(never)]
+pub fn cross_f32x3(a: &F32x3, b: &F32x3, out: &mut F32x3) {
+    *out = a.cross(b);
+}
+
+/// glam's `Vec3A::cross`.
+#[unsafe(no_mangle)]
+#[inline(never)]
+pub fn cross_glam_vec3a(a: &Vec3A, b: &Vec3A, out: &mut Vec3A) {
+    *out = a.cross(*b);
+}
+
+/// A 3×3 matrix (columns) times a 3-vector.
+#[unsafe(no_mangle)]
+#[inline(never)]
+pub fn mat3_vec3_f32(m: &[F32x3; 3], v: &F32x3, out: &mut F32x3) {
+    *out = kernels::mat3_mul(m, v);
+}
+
+/// glam's `Mat3A * Vec3A`.
+#[unsafe(no_mangle)]
+#[inline(never)]
+pub fn mat3_vec3_glam_mat3a(m: &Mat3A, v: &Vec3A, out: &mut Vec3A) {
+    *out = *m * *v;
+}

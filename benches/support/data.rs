@@ -1,0 +1,123 @@
+//! Fixed-seed random inputs, so every implementation in a group sees the same numbers
+//! on every run.
+
+/// PCG32 (XSH RR 64/32) of O'Neill, "PCG: A Family of Simple Fast Space-Efficient
+/// Statistically Good Algorithms for Random Number Generation" (2014): small, fast and
+/// reproducible, which is all benchmark data needs.
+#[derive(Clone, Debug)]
+pub struct Pcg32 {
+    state: u64,
+    inc: u64,
+}
+
+impl Pcg32 {
+    /// The generator for `seed` (stream fixed).
+    pub fn new(seed: u64) -> Self {
+        let mut g = Self {
+            state: 0,
+            inc: (0xda3e_39cb_94b9_5bdb << 1) | 1,
+        };
+        g.next_u32();
+        g.state = g.state.wrapping_add(seed);
+        g.next_u32();
+        g
+    }
+
+    /// The next 32 random bits.
+    pub fn next_u32(&mut self) -> u32 {
+        let old = self.state;
+        self.state = old
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(self.inc);
+        let xorshifted = (((old >> 18) ^ old) >> 27) as u32;
+        let rot = (old >> 59) as u32;
+        xorshifted.rotate_right(rot)
+    }
+
+    /// Uniform in $[lo, hi)$.
+    pub fn range(&mut self, lo: f32, hi: f32) -> f32 {
+        let unit = (self.next_u32() >> 8) as f32 * (1.0 / (1u32 << 24) as f32);
+        lo + (hi - lo) * unit
+    }
+
+    /// A uniformly random unit 3-vector (normalised Gaussian-free rejection sampling).
+    pub fn unit3(&mut self) -> [f32; 3] {
+        loop {
+            let v = [
+                self.range(-1.0, 1.0),
+                self.range(-1.0, 1.0),
+                self.range(-1.0, 1.0),
+            ];
+            let l2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+            if l2 > 1e-4 && l2 <= 1.0 {
+                let inv = 1.0 / l2.sqrt();
+                return v.map(|x| x * inv);
+            }
+        }
+    }
+
+    /// `n` values uniform in $[-1, 1)$.
+    pub fn vec(&mut self, n: usize) -> Vec<f32> {
+        (0..n).map(|_| self.range(-1.0, 1.0)).collect()
+    }
+
+    /// `n` 3-vectors with components uniform in $[-1, 1)$.
+    pub fn vec3s(&mut self, n: usize) -> Vec<[f32; 3]> {
+        (0..n)
+            .map(|_| [0; 3].map(|_| self.range(-1.0, 1.0)))
+            .collect()
+    }
+
+    /// `n` random unit 3-vectors.
+    pub fn units(&mut self, n: usize) -> Vec<[f32; 3]> {
+        (0..n).map(|_| self.unit3()).collect()
+    }
+}
+
+/// A batch of 3-vectors in structure-of-arrays form: all x, then all y, then all z.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Soa {
+    /// x components.
+    pub x: Vec<f32>,
+    /// y components.
+    pub y: Vec<f32>,
+    /// z components.
+    pub z: Vec<f32>,
+}
+
+impl Soa {
+    /// The SoA form of `v`.
+    pub fn from_aos(v: &[[f32; 3]]) -> Self {
+        Self {
+            x: v.iter().map(|p| p[0]).collect(),
+            y: v.iter().map(|p| p[1]).collect(),
+            z: v.iter().map(|p| p[2]).collect(),
+        }
+    }
+
+    /// Vector `i` as an array.
+    pub fn get(&self, i: usize) -> [f32; 3] {
+        [self.x[i], self.y[i], self.z[i]]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn deterministic_and_in_range() {
+        let (mut a, mut b) = (Pcg32::new(7), Pcg32::new(7));
+        for _ in 0..1000 {
+            let x = a.range(-1.0, 1.0);
+            assert_eq!(x, b.range(-1.0, 1.0));
+            assert!((-1.0..1.0).contains(&x));
+        }
+        assert_ne!(Pcg32::new(1).next_u32(), Pcg32::new(2).next_u32());
+        let u = a.unit3();
+        assert!((u[0] * u[0] + u[1] * u[1] + u[2] * u[2] - 1.0).abs() < 1e-5);
+        let v = a.vec3s(5);
+        let s = Soa::from_aos(&v);
+        assert_eq!(s.get(3), v[3]);
+    }
+}

@@ -1,0 +1,444 @@
+//! Binned SAH construction.
+//!
+//! I. Wald, "On fast Construction of SAH-based Bounding Volume Hierarchies", IEEE
+//! Symposium on Interactive Ray Tracing 2007: instead of sorting, primitive centroids
+//! are dropped into [`NUM_BINS`] equal bins along each axis of the node's centroid
+//! bounds, and the surface area heuristic
+//! $C = C_{trav} + C_{isect} (A_L N_L + A_R N_R) / A$ is evaluated only at the bin
+//! boundaries, with two sweeps over the bins. All three axes are binned in the same
+//! pass over the primitives.
+//!
+//! A node becomes a leaf when it holds one primitive, or at most `max_leaf_size` and the
+//! SAH finds no split cheaper than intersecting them all. When the centroids coincide
+//! (no bin split exists), or below depth [`MAX_SAH_DEPTH`], the node is split at the
+//! object median instead, so the tree depth is bounded by
+//! `MAX_SAH_DEPTH + log2(primitives)`, which sizes the traversal stack.
+//!
+//! Subtrees of at least [`PARALLEL_MIN`] primitives are built with `rayon::join`. The
+//! split decisions depend only on the data, each subtree is built into its own node
+//! array, and the arrays are concatenated depth-first at the end, so the result is
+//! bit-identical for any number of threads.
+
+use super::node::{Bounds3, Node};
+
+/// Bins per axis.
+pub const NUM_BINS: usize = 32;
+/// SAH cost of visiting a node, relative to one primitive test.
+pub const TRAVERSAL_COST: f32 = 1.0;
+/// SAH cost of one primitive test.
+pub const INTERSECT_COST: f32 = 1.0;
+/// Below this depth the SAH is no longer consulted; splits are at the object median.
+pub const MAX_SAH_DEPTH: usize = 64;
+/// Smallest subtree (in primitives) built as a separate parallel task.
+pub const PARALLEL_MIN: usize = 4096;
+
+/// A primitive as the builder sees it: conservative bounds and an opaque id that ends up
+/// in the BVH's reference array.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BuildPrim {
+    /// Bounds, rounded outward to `f32`.
+    pub bounds: Bounds3,
+    /// The caller's id for the primitive.
+    pub id: u32,
+}
+
+/// Builder settings.
+#[derive(Clone, Copy, Debug)]
+pub struct BuildConfig {
+    /// Largest leaf the SAH may choose (at least 1).
+    pub max_leaf_size: usize,
+    /// Build large subtrees in parallel with rayon.
+    pub parallel: bool,
+}
+
+/// A built subtree: either a finished depth-first node array whose interior `offset`s
+/// are relative to its own start, or a node whose two subtrees were built in parallel.
+enum Subtree {
+    Flat { nodes: Vec<Node>, depth: usize },
+    Split { node: Node, children: Box<(Subtree, Subtree)> },
+}
+
+/// Builds over `prims`, reordering them in place so that every leaf covers a contiguous
+/// range. Returns the depth-first node array and the depth (number of levels; 0 for no
+/// primitives).
+pub fn build(prims: &mut [BuildPrim], cfg: &BuildConfig) -> (Vec<Node>, usize) {
+    if prims.is_empty() {
+        return (Vec::new(), 0);
+    }
+    let cfg = BuildConfig {
+        max_leaf_size: cfg.max_leaf_size.max(1),
+        ..*cfg
+    };
+    let tree = build_subtree(&cfg, prims, 0, 0);
+    let mut nodes = Vec::with_capacity(count_nodes(&tree));
+    let depth = flatten(tree, &mut nodes);
+    (nodes, depth)
+}
+
+fn count_nodes(tree: &Subtree) -> usize {
+    match tree {
+        Subtree::Flat { nodes, .. } => nodes.len(),
+        Subtree::Split { children, .. } => 1 + count_nodes(&children.0) + count_nodes(&children.1),
+    }
+}
+
+/// Concatenates a subtree depth-first into `out`, fixing up the second-child indices.
+fn flatten(tree: Subtree, out: &mut Vec<Node>) -> usize {
+    match tree {
+        Subtree::Flat { nodes, depth } => {
+            let base = out.len() as u32;
+            out.extend(nodes.into_iter().map(|mut n| {
+                if !n.is_leaf() {
+                    n.offset += base;
+                }
+                n
+            }));
+            depth
+        }
+        Subtree::Split { node, children } => {
+            let at = out.len();
+            out.push(node);
+            let (left, right) = *children;
+            let dl = flatten(left, out);
+            out[at].offset = out.len() as u32;
+            let dr = flatten(right, out);
+            1 + dl.max(dr)
+        }
+    }
+}
+
+/// Builds the subtree over `prims` (which start at reference index `first`), forking
+/// into parallel tasks while it is large.
+fn build_subtree(cfg: &BuildConfig, prims: &mut [BuildPrim], first: usize, depth: usize) -> Subtree {
+    if !cfg.parallel || prims.len() < PARALLEL_MIN {
+        let mut nodes = Vec::with_capacity(prims.len());
+        let d = build_serial(cfg, prims, first, depth, &mut nodes);
+        return Subtree::Flat {
+            nodes,
+            depth: d - depth,
+        };
+    }
+    let (bounds, centroids) = measure(prims);
+    match split(cfg, prims, &bounds, &centroids, depth) {
+        None => Subtree::Flat {
+            nodes: vec![Node::leaf(bounds.to_array(), first as u32, prims.len() as u32)],
+            depth: 1,
+        },
+        Some(mid) => {
+            let (l, r) = prims.split_at_mut(mid);
+            let (a, b) = rayon::join(
+                || build_subtree(cfg, l, first, depth + 1),
+                || build_subtree(cfg, r, first + mid, depth + 1),
+            );
+            Subtree::Split {
+                node: Node::interior(bounds.to_array()),
+                children: Box::new((a, b)),
+            }
+        }
+    }
+}
+
+/// Serial recursive build appending to `nodes`; interior offsets are relative to the
+/// start of `nodes`. Returns the depth (levels from the root of the whole tree) of the
+/// deepest leaf.
+fn build_serial(
+    cfg: &BuildConfig,
+    prims: &mut [BuildPrim],
+    first: usize,
+    depth: usize,
+    nodes: &mut Vec<Node>,
+) -> usize {
+    let (bounds, centroids) = measure(prims);
+    let at = nodes.len();
+    match split(cfg, prims, &bounds, &centroids, depth) {
+        None => {
+            nodes.push(Node::leaf(bounds.to_array(), first as u32, prims.len() as u32));
+            depth + 1
+        }
+        Some(mid) => {
+            nodes.push(Node::interior(bounds.to_array()));
+            let (l, r) = prims.split_at_mut(mid);
+            let dl = build_serial(cfg, l, first, depth + 1, nodes);
+            nodes[at].offset = nodes.len() as u32;
+            let dr = build_serial(cfg, r, first + mid, depth + 1, nodes);
+            dl.max(dr)
+        }
+    }
+}
+
+/// Bounds of the primitives and of their centroids.
+fn measure(prims: &[BuildPrim]) -> (Bounds3, Bounds3) {
+    let mut b = Bounds3::EMPTY;
+    let mut c = Bounds3::EMPTY;
+    for p in prims {
+        b.union(&p.bounds);
+        c.add_point(p.bounds.centroid());
+    }
+    (b, c)
+}
+
+#[derive(Clone, Copy)]
+struct Bin {
+    bounds: Bounds3,
+    count: u32,
+}
+
+const EMPTY_BIN: Bin = Bin {
+    bounds: Bounds3::EMPTY,
+    count: 0,
+};
+
+/// Maps a centroid coordinate to its bin: $\lfloor (c - c_{min}) k \rfloor$ with
+/// $k = B (1 - 10^{-6}) / (c_{max} - c_{min})$, clamped (the cast saturates).
+#[inline(always)]
+fn bin_of(c: f32, cmin: f32, k: f32) -> usize {
+    (((c - cmin) * k) as usize).min(NUM_BINS - 1)
+}
+
+/// Decides the node: `None` for a leaf, or `Some(mid)` after partitioning `prims` into
+/// `[..mid]` and `[mid..]`, both non-empty.
+fn split(
+    cfg: &BuildConfig,
+    prims: &mut [BuildPrim],
+    bounds: &Bounds3,
+    centroids: &Bounds3,
+    depth: usize,
+) -> Option<usize> {
+    let n = prims.len();
+    if n <= 1 {
+        return None;
+    }
+    let may_be_leaf = n <= cfg.max_leaf_size;
+    if depth >= MAX_SAH_DEPTH {
+        return if may_be_leaf {
+            None
+        } else {
+            Some(median_split(prims, centroids))
+        };
+    }
+
+    // Bin all three axes in one pass.
+    let extent: [f32; 3] = core::array::from_fn(|a| centroids.hi[a] - centroids.lo[a]);
+    let scale: [f32; 3] = core::array::from_fn(|a| {
+        if extent[a] > 0.0 && extent[a].is_finite() {
+            NUM_BINS as f32 * (1.0 - 1e-6) / extent[a]
+        } else {
+            0.0
+        }
+    });
+    let mut bins = [[EMPTY_BIN; NUM_BINS]; 3];
+    for p in prims.iter() {
+        let c = p.bounds.centroid();
+        for a in 0..3 {
+            if scale[a] > 0.0 {
+                let bin = &mut bins[a][bin_of(c[a], centroids.lo[a], scale[a])];
+                bin.count += 1;
+                bin.bounds.union(&p.bounds);
+            }
+        }
+    }
+
+    // Sweep: cost of splitting after bin i is N_L A_L + N_R A_R.
+    let mut best: Option<(f32, usize, usize)> = None;
+    for a in 0..3 {
+        if scale[a] == 0.0 {
+            continue;
+        }
+        let bins = &bins[a];
+        let mut right_cost = [0.0f32; NUM_BINS];
+        let mut right_count = [0u32; NUM_BINS];
+        let mut acc = Bounds3::EMPTY;
+        let mut count = 0u32;
+        for i in (1..NUM_BINS).rev() {
+            acc.union(&bins[i].bounds);
+            count += bins[i].count;
+            right_count[i - 1] = count;
+            right_cost[i - 1] = count as f32 * acc.half_area();
+        }
+        let mut acc = Bounds3::EMPTY;
+        let mut count = 0u32;
+        for i in 0..NUM_BINS - 1 {
+            acc.union(&bins[i].bounds);
+            count += bins[i].count;
+            if count == 0 || right_count[i] == 0 {
+                continue;
+            }
+            let cost = count as f32 * acc.half_area() + right_cost[i];
+            if best.is_none_or(|(c, _, _)| cost < c) {
+                best = Some((cost, a, i));
+            }
+        }
+    }
+
+    let area = bounds.half_area();
+    if let Some((cost, axis, bin)) = best {
+        let leaf_cost = INTERSECT_COST * n as f32;
+        let split_cost = TRAVERSAL_COST + INTERSECT_COST * cost / area;
+        if may_be_leaf && !(split_cost < leaf_cost) {
+            return None;
+        }
+        if split_cost.is_finite() || !may_be_leaf {
+            let (cmin, k) = (centroids.lo[axis], scale[axis]);
+            let mid = partition(prims, |p| bin_of(p.bounds.centroid()[axis], cmin, k) <= bin);
+            debug_assert!(mid > 0 && mid < n);
+            return Some(mid);
+        }
+    }
+    if may_be_leaf {
+        None
+    } else {
+        Some(median_split(prims, centroids))
+    }
+}
+
+/// Splits at the object median along the widest centroid axis (in input order when the
+/// centroids all coincide).
+fn median_split(prims: &mut [BuildPrim], centroids: &Bounds3) -> usize {
+    let mid = prims.len() / 2;
+    let extent: [f32; 3] = core::array::from_fn(|a| centroids.hi[a] - centroids.lo[a]);
+    let axis = (0..3)
+        .max_by(|&a, &b| extent[a].total_cmp(&extent[b]).then(b.cmp(&a)))
+        .unwrap_or(0);
+    if extent[axis] > 0.0 {
+        prims.select_nth_unstable_by(mid, |p, q| {
+            p.bounds.centroid()[axis].total_cmp(&q.bounds.centroid()[axis])
+        });
+    }
+    mid
+}
+
+/// Moves the elements satisfying `left` to the front; returns how many there are.
+fn partition(prims: &mut [BuildPrim], left: impl Fn(&BuildPrim) -> bool) -> usize {
+    let (mut i, mut j) = (0, prims.len());
+    loop {
+        while i < j && left(&prims[i]) {
+            i += 1;
+        }
+        while i < j && !left(&prims[j - 1]) {
+            j -= 1;
+        }
+        if i >= j {
+            return i;
+        }
+        prims.swap(i, j - 1);
+        i += 1;
+        j -= 1;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cube(p: [f32; 3], h: f32, id: u32) -> BuildPrim {
+        BuildPrim {
+            bounds: Bounds3 {
+                lo: p.map(|x| x - h),
+                hi: p.map(|x| x + h),
+            },
+            id,
+        }
+    }
+
+    /// Pseudo-random points from a fixed-seed xorshift.
+    fn cloud(n: usize) -> Vec<BuildPrim> {
+        let mut s = 0x2545_f491_4f6c_dd1du64;
+        let mut next = || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 40) as f32 / (1u64 << 24) as f32
+        };
+        (0..n)
+            .map(|i| cube([next() * 100.0, next() * 100.0, next() * 100.0], next(), i as u32))
+            .collect()
+    }
+
+    /// Checks structure: every reference once, leaves within bounds, children inside
+    /// parents.
+    fn check(nodes: &[Node], prims: &[BuildPrim], max_leaf: usize) {
+        let mut seen = vec![false; prims.len()];
+        let mut stack = vec![0usize];
+        while let Some(i) = stack.pop() {
+            let n = &nodes[i];
+            if n.is_leaf() {
+                assert!(n.count as usize <= max_leaf.max(1) || n.count == 1);
+                for p in &prims[n.offset as usize..(n.offset + n.count) as usize] {
+                    assert!(!seen[p.id as usize]);
+                    seen[p.id as usize] = true;
+                    for a in 0..3 {
+                        assert!(n.bounds[0][a] <= p.bounds.lo[a] && p.bounds.hi[a] <= n.bounds[1][a]);
+                    }
+                }
+            } else {
+                for c in [i + 1, n.offset as usize] {
+                    for a in 0..3 {
+                        assert!(n.bounds[0][a] <= nodes[c].bounds[0][a]);
+                        assert!(nodes[c].bounds[1][a] <= n.bounds[1][a]);
+                    }
+                    stack.push(c);
+                }
+            }
+        }
+        assert!(seen.iter().all(|&s| s));
+    }
+
+    #[test]
+    fn builds_a_valid_tree() {
+        let mut prims = cloud(5000);
+        let cfg = BuildConfig {
+            max_leaf_size: 4,
+            parallel: true,
+        };
+        let (nodes, depth) = build(&mut prims, &cfg);
+        check(&nodes, &prims, 4);
+        assert!(depth > 5 && depth < 64, "depth {depth}");
+    }
+
+    #[test]
+    fn identical_centroids_still_split_to_leaf_size() {
+        let mut prims: Vec<BuildPrim> = (0..1000).map(|i| cube([1.0; 3], 0.5, i)).collect();
+        let cfg = BuildConfig {
+            max_leaf_size: 3,
+            parallel: false,
+        };
+        let (nodes, depth) = build(&mut prims, &cfg);
+        check(&nodes, &prims, 3);
+        assert!(depth <= 11, "depth {depth}");
+    }
+
+    #[test]
+    fn parallel_and_serial_builds_are_identical() {
+        let base = cloud(3 * PARALLEL_MIN);
+        let (mut a, mut b) = (base.clone(), base);
+        let serial = build(
+            &mut a,
+            &BuildConfig {
+                max_leaf_size: 8,
+                parallel: false,
+            },
+        );
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(3).build().unwrap();
+        let parallel = pool.install(|| {
+            build(
+                &mut b,
+                &BuildConfig {
+                    max_leaf_size: 8,
+                    parallel: true,
+                },
+            )
+        });
+        assert_eq!(serial, parallel);
+        assert_eq!(a, b);
+    }
+
+    #[test]
+    fn single_and_empty() {
+        let mut none: Vec<BuildPrim> = Vec::new();
+        assert_eq!(build(&mut none, &BuildConfig { max_leaf_size: 4, parallel: true }).0.len(), 0);
+        let mut one = vec![cube([0.0; 3], 1.0, 0)];
+        let (nodes, depth) = build(&mut one, &BuildConfig { max_leaf_size: 4, parallel: true });
+        assert_eq!((nodes.len(), depth), (1, 1));
+        assert!(nodes[0].is_leaf());
+    }
+}

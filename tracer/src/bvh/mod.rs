@@ -1,0 +1,75 @@
+//! Bounding volume hierarchy over opaque primitive references.
+//!
+//! The BVH knows nothing about primitive types: it is built from conservative `f32`
+//! boxes with a `u32` id each ([`BuildPrim`]) and stores those ids in leaf order
+//! ([`Bvh::refs`]); [`crate::geometry`] gives the ids their meaning and reorders its
+//! primitive arrays to match, so a leaf's primitives are contiguous in memory.
+//!
+//! - [`build`]: binned SAH construction (Wald 2007), parallel and deterministic.
+//! - [`node`]: the 32-byte node and its layout.
+//! - [`traverse`]: ordered closest-hit and early-exit any-hit traversal with a
+//!   conservative slab test (Ize 2013).
+
+pub mod build;
+pub mod node;
+pub mod traverse;
+
+pub use build::{BuildConfig, BuildPrim};
+pub use node::{Bounds3, Node};
+pub use traverse::TraversalRay;
+
+/// A flattened BVH: depth-first nodes plus the primitive ids in leaf order.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Bvh {
+    nodes: Vec<Node>,
+    refs: Vec<u32>,
+    depth: usize,
+}
+
+impl Bvh {
+    /// Builds over the given primitives (reordered in place).
+    ///
+    /// # Panics
+    /// If there are more than `u32::MAX` primitives.
+    pub fn build(prims: &mut [BuildPrim], cfg: &BuildConfig) -> Self {
+        assert!(u32::try_from(prims.len()).is_ok(), "too many primitives for a BVH");
+        let (nodes, depth) = build::build(prims, cfg);
+        Self {
+            nodes,
+            refs: prims.iter().map(|p| p.id).collect(),
+            depth,
+        }
+    }
+
+    /// The nodes, depth-first; the root is `nodes()[0]` (empty for no primitives).
+    pub fn nodes(&self) -> &[Node] {
+        &self.nodes
+    }
+
+    /// Primitive ids in leaf order: a leaf covers `refs()[offset..offset + count]`.
+    pub fn refs(&self) -> &[u32] {
+        &self.refs
+    }
+
+    /// Rewrites every id through `f` (used after the caller reorders its primitives).
+    pub fn remap_refs(&mut self, mut f: impl FnMut(usize, u32) -> u32) {
+        for (i, r) in self.refs.iter_mut().enumerate() {
+            *r = f(i, *r);
+        }
+    }
+
+    /// Number of levels (1 for a single leaf, 0 when empty).
+    pub fn depth(&self) -> usize {
+        self.depth
+    }
+
+    /// Bytes of nodes plus references.
+    pub fn bytes(&self) -> usize {
+        self.nodes.len() * core::mem::size_of::<Node>() + self.refs.len() * 4
+    }
+
+    /// The root box, or `None` when empty.
+    pub fn root_bounds(&self) -> Option<[[f32; 3]; 2]> {
+        self.nodes.first().map(|n| n.bounds)
+    }
+}

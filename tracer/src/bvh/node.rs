@@ -1,0 +1,226 @@
+//! The compact BVH node and the conservative `f64` → `f32` rounding of its bounds.
+//!
+//! # Layout (32 bytes, two nodes per 64-byte cache line)
+//! ```text
+//! bounds[0] = lo.xyz   f32 x 3   12 bytes
+//! bounds[1] = hi.xyz   f32 x 3   12 bytes
+//! offset               u32        4 bytes  leaf: first index into `Bvh::refs`
+//!                                          interior: index of the second child
+//! count                u32        4 bytes  leaf: number of primitives (> 0)
+//!                                          interior: 0
+//! ```
+//! Nodes are stored depth-first: an interior node's first child is the next node in
+//! the array, so only the second child needs an index (pbrt-v4 `LinearBVHNode`).
+//!
+//! Bounds are `f32` for both precisions: a `f64` scene would need 56-byte nodes
+//! otherwise. Each bound is rounded outward ([`round_down`], [`round_up`]), so the box
+//! stored always contains the exact one and a box test in `f64` against it can only
+//! report extra candidates, never miss a primitive. The extra width is one `f32` ulp,
+//! far below the size of any leaf.
+//!
+//! `bounds[0]`/`bounds[1]` as an array of two lets the traversal select the near and far
+//! plane of an axis with `bounds[neg as usize][axis]`, with no branch and no bounds check.
+
+use vecexpr::Real;
+
+/// One node of the flattened BVH (see the module docs for the layout).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[repr(C, align(32))]
+pub struct Node {
+    /// `[lo, hi]` corners, rounded outward to `f32`.
+    pub bounds: [[f32; 3]; 2],
+    /// Leaf: first index into the reference array; interior: index of the second child.
+    pub offset: u32,
+    /// Leaf: number of primitives (at least 1); interior: 0.
+    pub count: u32,
+}
+
+const _: () = assert!(core::mem::size_of::<Node>() == 32);
+const _: () = assert!(core::mem::align_of::<Node>() == 32);
+
+impl Node {
+    /// Is this a leaf?
+    #[inline(always)]
+    pub fn is_leaf(&self) -> bool {
+        self.count != 0
+    }
+
+    /// A leaf over `refs[first..first + count]`.
+    #[inline]
+    pub fn leaf(bounds: [[f32; 3]; 2], first: u32, count: u32) -> Self {
+        debug_assert!(count > 0);
+        Self {
+            bounds,
+            offset: first,
+            count,
+        }
+    }
+
+    /// An interior node; the second child index is filled in later.
+    #[inline]
+    pub fn interior(bounds: [[f32; 3]; 2]) -> Self {
+        Self {
+            bounds,
+            offset: 0,
+            count: 0,
+        }
+    }
+}
+
+/// The largest `f32` not greater than `x` (`-inf` below the `f32` range, NaN stays NaN).
+#[inline]
+pub fn round_down(x: f64) -> f32 {
+    let f = x as f32;
+    if f64::from(f) > x {
+        Real::next_down(f)
+    } else {
+        f
+    }
+}
+
+/// The smallest `f32` not less than `x` (`+inf` above the `f32` range, NaN stays NaN).
+#[inline]
+pub fn round_up(x: f64) -> f32 {
+    let f = x as f32;
+    if f64::from(f) < x {
+        Real::next_up(f)
+    } else {
+        f
+    }
+}
+
+/// An axis-aligned box under construction, in `f32` with outward rounding.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Bounds3 {
+    /// Lower corner.
+    pub lo: [f32; 3],
+    /// Upper corner.
+    pub hi: [f32; 3],
+}
+
+impl Default for Bounds3 {
+    fn default() -> Self {
+        Self::EMPTY
+    }
+}
+
+impl Bounds3 {
+    /// The empty box (`lo = +inf`, `hi = -inf`), identity of [`Bounds3::union`].
+    pub const EMPTY: Self = Self {
+        lo: [f32::INFINITY; 3],
+        hi: [f32::NEG_INFINITY; 3],
+    };
+
+    /// The smallest `f32` box containing the `f64` box `[lo, hi]`.
+    #[inline]
+    pub fn from_f64(lo: [f64; 3], hi: [f64; 3]) -> Self {
+        Self {
+            lo: lo.map(round_down),
+            hi: hi.map(round_up),
+        }
+    }
+
+    /// The smallest `f32` box containing the points.
+    pub fn from_points<T: Real>(points: &[vecexpr::Vec3<T>]) -> Self {
+        let mut lo = [f64::INFINITY; 3];
+        let mut hi = [f64::NEG_INFINITY; 3];
+        for p in points {
+            for a in 0..3 {
+                let x = p[a].to_f64();
+                lo[a] = lo[a].min(x);
+                hi[a] = hi[a].max(x);
+            }
+        }
+        Self::from_f64(lo, hi)
+    }
+
+    /// Grows to contain `other`.
+    #[inline(always)]
+    pub fn union(&mut self, other: &Self) {
+        for a in 0..3 {
+            self.lo[a] = vecexpr::Scalar::min(other.lo[a], self.lo[a]);
+            self.hi[a] = vecexpr::Scalar::max(other.hi[a], self.hi[a]);
+        }
+    }
+
+    /// Grows to contain the point `p`.
+    #[inline(always)]
+    pub fn add_point(&mut self, p: [f32; 3]) {
+        for (a, &x) in p.iter().enumerate() {
+            self.lo[a] = vecexpr::Scalar::min(x, self.lo[a]);
+            self.hi[a] = vecexpr::Scalar::max(x, self.hi[a]);
+        }
+    }
+
+    /// Half the surface area (the SAH only needs ratios); 0 for an empty box.
+    #[inline(always)]
+    pub fn half_area(&self) -> f32 {
+        let d = [
+            (self.hi[0] - self.lo[0]).max(0.0),
+            (self.hi[1] - self.lo[1]).max(0.0),
+            (self.hi[2] - self.lo[2]).max(0.0),
+        ];
+        d[0] * d[1] + d[1] * d[2] + d[2] * d[0]
+    }
+
+    /// The box centre, clamped to the finite `f32` range (NaN becomes 0) so that binning
+    /// never sees a non-finite centroid.
+    #[inline(always)]
+    pub fn centroid(&self) -> [f32; 3] {
+        core::array::from_fn(|a| {
+            // 0.5 lo + 0.5 hi cannot overflow for finite bounds.
+            let c = 0.5 * self.lo[a] + 0.5 * self.hi[a];
+            if c.is_nan() {
+                0.0
+            } else {
+                c.clamp(-f32::MAX, f32::MAX)
+            }
+        })
+    }
+
+    /// As the node's `[lo, hi]` array.
+    #[inline(always)]
+    pub fn to_array(self) -> [[f32; 3]; 2] {
+        [self.lo, self.hi]
+    }
+
+    /// Is the box empty (any `lo > hi`)?
+    #[inline]
+    pub fn is_empty(&self) -> bool {
+        (0..3).any(|a| !(self.lo[a] <= self.hi[a]))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rounding_is_outward() {
+        for &x in &[0.1f64, -0.1, 1.0 / 3.0, -1e-40, 3.0e38, 1e300, -1e300, 0.0, 1.5] {
+            let (lo, hi) = (round_down(x), round_up(x));
+            assert!(f64::from(lo) <= x && x <= f64::from(hi), "{x}: {lo} {hi}");
+            assert!(hi == lo || hi == Real::next_up(lo), "{x}: {lo} {hi}");
+        }
+        assert_eq!(round_down(1.0), 1.0);
+        assert_eq!(round_up(1.0), 1.0);
+        assert_eq!(round_up(1e300), f32::INFINITY);
+        assert_eq!(round_down(1e300), f32::MAX);
+    }
+
+    #[test]
+    fn bounds_union_and_area() {
+        let mut b = Bounds3::EMPTY;
+        assert!(b.is_empty());
+        assert_eq!(b.half_area(), 0.0);
+        b.add_point([0.0, 0.0, 0.0]);
+        b.union(&Bounds3 {
+            lo: [1.0, 1.0, 1.0],
+            hi: [1.0, 2.0, 3.0],
+        });
+        assert_eq!(b.lo, [0.0; 3]);
+        assert_eq!(b.hi, [1.0, 2.0, 3.0]);
+        assert_eq!(b.half_area(), 2.0 + 6.0 + 3.0);
+        assert_eq!(b.centroid(), [0.5, 1.0, 1.5]);
+    }
+}

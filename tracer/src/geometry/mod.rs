@@ -1,0 +1,416 @@
+//! Scene geometry: primitives, their intersection kernels, and the BVH over them.
+//!
+//! [`Geometry::build`] converts the parsed `f64` shapes to the precision `T`,
+//! triangulates polygons, builds the BVH and reorders the primitives into leaf order.
+//! [`Geometry::intersect`] returns the closest hit in the ray's open interval
+//! $(t_{min}, t_{max})$; [`Geometry::occluded`] stops at the first hit.
+//!
+//! | NFF | stored as | kernel |
+//! |---|---|---|
+//! | `s` | [`Sphere`] | Haines et al., Ray Tracing Gems ch. 7 ([`sphere`]) |
+//! | `c` | [`Cone`] | analytic, cancellation-free discriminant ([`cone`]) |
+//! | `p` | [`Triangle`]s by ear clipping, polygon normal by Newell ([`polygon`]) | watertight (Woop et al. 2013) or Möller–Trumbore ([`triangle`]) |
+//! | `pp` | the same, with vertex normals | the same |
+//! | (API) | [`Plane`] outside the BVH | ray/plane ([`plane`]) |
+//!
+//! Storage is one dense array per type, hot kernel data apart from cold hit data; see
+//! [`storage`](self::storage) for why this beats an enum.
+//!
+//! # Guarantees
+//! - Degenerate input never panics and never produces a hit: zero or non-finite radii,
+//!   zero-area triangles, polygons without area and coincident cone ends are skipped at
+//!   build time ([`GeometryStats::skipped`]); rays with a non-finite origin or
+//!   direction, a zero direction or a NaN interval hit nothing.
+//! - Every hit has a finite `t` in the interval and unit normals.
+//! - The BVH box test is conservative (Ize 2013), so the BVH returns exactly what brute
+//!   force returns. When two primitives are hit at exactly the same `t`, the one given
+//!   first in the input wins, independently of traversal order.
+
+pub mod aabb;
+pub mod builder;
+pub mod cone;
+pub mod plane;
+pub mod polygon;
+pub(crate) mod ray_data;
+pub mod sphere;
+pub(crate) mod storage;
+pub mod triangle;
+
+pub use aabb::Aabb;
+pub use builder::GeometryBuilder;
+pub use cone::Cone;
+pub use plane::Plane;
+pub use sphere::Sphere;
+pub use triangle::Triangle;
+
+use crate::bvh::{Bounds3, BuildConfig, Bvh};
+use crate::ray::{Hit, Ray};
+use crate::scene::desc::ShapeDesc;
+use ray_data::RayData;
+use std::time::Instant;
+use storage::{make_ref, Prims, CONE, INDEX_MASK, NO_SHADING, PLANE, SPHERE, TAG_SHIFT, TRIANGLE};
+use vecexpr::{Expr, Real, Vec3};
+
+/// Which ray/triangle test to use.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum TriangleTest {
+    /// Woop, Benthin, Wald 2013: no ray slips between triangles sharing an edge.
+    #[default]
+    Watertight,
+    /// Möller, Trumbore 1997: slightly cheaper, may miss along shared edges.
+    MollerTrumbore,
+}
+
+/// How to accelerate ray queries.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct AccelOptions {
+    /// Build and use a BVH; `false` tests every primitive (for comparison).
+    pub use_bvh: bool,
+    /// The ray/triangle test.
+    pub triangle: TriangleTest,
+    /// Largest leaf the SAH may choose (larger nodes are always split).
+    pub max_leaf_size: usize,
+    /// Build large subtrees in parallel on the rayon pool (the tree is identical either
+    /// way).
+    pub parallel_build: bool,
+}
+
+impl Default for AccelOptions {
+    /// BVH, watertight triangles, leaves of up to 8, parallel build.
+    fn default() -> Self {
+        Self {
+            use_bvh: true,
+            triangle: TriangleTest::Watertight,
+            max_leaf_size: 8,
+            parallel_build: true,
+        }
+    }
+}
+
+/// Counts and costs of a built [`Geometry`].
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct GeometryStats {
+    /// Spheres stored.
+    pub spheres: usize,
+    /// Triangles stored, including those cut from polygons, patches and meshes.
+    pub triangles: usize,
+    /// Input polygons (NFF `p`) that were triangulated.
+    pub polygons: usize,
+    /// Input patches (NFF `pp`) that were triangulated.
+    pub patches: usize,
+    /// Cones and cylinders stored.
+    pub cones: usize,
+    /// Infinite planes (outside the BVH).
+    pub planes: usize,
+    /// Input primitives dropped as degenerate.
+    pub skipped: usize,
+    /// BVH nodes (0 without a BVH).
+    pub bvh_nodes: usize,
+    /// BVH levels (1 for a single leaf).
+    pub bvh_depth: usize,
+    /// Bytes of BVH nodes and references.
+    pub bvh_bytes: usize,
+    /// Bytes of primitive data (kernel data, ids, materials, normals).
+    pub prim_bytes: usize,
+    /// Wall time of the whole build (conversion, triangulation, BVH, reordering), ms.
+    pub build_ms: f64,
+}
+
+impl GeometryStats {
+    /// BVH plus primitive bytes per primitive in the BVH.
+    pub fn bytes_per_primitive(&self) -> f64 {
+        let n = self.spheres + self.triangles + self.cones;
+        (self.bvh_bytes + self.prim_bytes) as f64 / n.max(1) as f64
+    }
+}
+
+/// The closest candidate so far: reference, distance, barycentrics.
+#[derive(Clone, Copy)]
+struct Best<T: Real> {
+    r: u32,
+    t: T,
+    b1: T,
+    b2: T,
+}
+
+/// No candidate yet (never a valid reference: planes are capped below this index).
+const NO_HIT: u32 = u32::MAX;
+
+/// All primitives of a scene in precision `T`, with their BVH.
+///
+/// # Examples
+/// ```
+/// use tracer::geometry::{AccelOptions, Geometry};
+/// use tracer::scene::desc::{Shape, ShapeDesc};
+/// use tracer::Ray;
+/// use vecexpr::vec3;
+///
+/// let shapes = [ShapeDesc {
+///     shape: Shape::Sphere { center: [0.0, 0.0, -5.0], radius: 1.0, inside_visible: false },
+///     material: 0,
+///     line: 1,
+/// }];
+/// let g = Geometry::<f64>::build(&shapes, &AccelOptions::default());
+/// let hit = g.intersect(&Ray::new(vec3(0.0, 0.0, 0.0), vec3(0.0, 0.0, -1.0))).unwrap();
+/// assert_eq!(hit.t, 4.0);
+/// assert_eq!(hit.geometric_normal, vec3(0.0, 0.0, 1.0));
+/// ```
+#[derive(Clone, Debug)]
+pub struct Geometry<T: Real> {
+    prims: Prims<T>,
+    bvh: Option<Bvh>,
+    triangle_test: TriangleTest,
+    bounds: Aabb<T>,
+    stats: GeometryStats,
+}
+
+impl<T: Real> Geometry<T> {
+    /// Converts the shapes to `T` and builds the acceleration structure. A hit's
+    /// `prim_id` is the index of its shape in `shapes`.
+    pub fn build(shapes: &[ShapeDesc], opts: &AccelOptions) -> Self {
+        let start = Instant::now();
+        let mut b = GeometryBuilder::new();
+        for (i, s) in shapes.iter().enumerate() {
+            b.push_shape(i as u32, s);
+        }
+        Self::from_builder(b, opts, start)
+    }
+
+    /// Starts a geometry in code.
+    pub fn builder() -> GeometryBuilder<T> {
+        GeometryBuilder::new()
+    }
+
+    fn from_builder(b: GeometryBuilder<T>, opts: &AccelOptions, start: Instant) -> Self {
+        let mut prims = b.prims;
+        let mut build_prims = prims.build_prims();
+        let mut total = Bounds3::EMPTY;
+        for p in &build_prims {
+            total.union(&p.bounds);
+        }
+        let bvh = opts.use_bvh.then(|| {
+            let cfg = BuildConfig {
+                max_leaf_size: opts.max_leaf_size,
+                parallel: opts.parallel_build,
+            };
+            let mut bvh = Bvh::build(&mut build_prims, &cfg);
+            prims.reorder(&mut bvh);
+            bvh
+        });
+        drop(build_prims);
+        let stats = GeometryStats {
+            spheres: prims.spheres.len(),
+            triangles: prims.triangles.len(),
+            polygons: b.polygons,
+            patches: b.patches,
+            cones: prims.cones.len(),
+            planes: prims.planes.len(),
+            skipped: b.skipped,
+            bvh_nodes: bvh.as_ref().map_or(0, |b| b.nodes().len()),
+            bvh_depth: bvh.as_ref().map_or(0, |b| b.depth()),
+            bvh_bytes: bvh.as_ref().map_or(0, |b| b.bytes()),
+            prim_bytes: prims.bytes(),
+            build_ms: start.elapsed().as_secs_f64() * 1e3,
+        };
+        Self {
+            prims,
+            bvh,
+            triangle_test: opts.triangle,
+            bounds: Aabb::from_bounds(&total),
+            stats,
+        }
+    }
+
+    /// Counts, BVH size and build time.
+    pub fn stats(&self) -> &GeometryStats {
+        &self.stats
+    }
+
+    /// Conservative bounds of all bounded primitives (planes excluded); empty if none.
+    pub fn bounds(&self) -> Aabb<T> {
+        self.bounds
+    }
+
+    /// The BVH, if one was built.
+    pub fn bvh(&self) -> Option<&Bvh> {
+        self.bvh.as_ref()
+    }
+
+    /// The ray/triangle test in use.
+    pub fn triangle_test(&self) -> TriangleTest {
+        self.triangle_test
+    }
+
+    /// The closest hit with $t \in (t_{min}, t_{max})$, or `None` (also for invalid
+    /// rays: non-finite origin or direction, zero direction, NaN bounds).
+    #[inline]
+    pub fn intersect(&self, ray: &Ray<T>) -> Option<Hit<T>> {
+        match self.triangle_test {
+            TriangleTest::Watertight => self.closest::<true>(ray),
+            TriangleTest::MollerTrumbore => self.closest::<false>(ray),
+        }
+    }
+
+    /// Is anything hit with $t \in (t_{min}, t_{max})$? Stops at the first hit found.
+    #[inline]
+    pub fn occluded(&self, ray: &Ray<T>) -> bool {
+        match self.triangle_test {
+            TriangleTest::Watertight => self.any::<true>(ray),
+            TriangleTest::MollerTrumbore => self.any::<false>(ray),
+        }
+    }
+
+    /// Tests one primitive for a hit with $t \in (t_{min}, t_{max}]$.
+    #[inline(always)]
+    fn test<const WATERTIGHT: bool>(&self, r: u32, rd: &RayData<T>, t_max: T) -> Option<(T, T, T)> {
+        let i = (r & INDEX_MASK) as usize;
+        let zero = T::ZERO;
+        match r >> TAG_SHIFT {
+            SPHERE => self.prims.spheres[i].intersect(rd, t_max).map(|t| (t, zero, zero)),
+            TRIANGLE => {
+                let tri = &self.prims.triangles[i];
+                if WATERTIGHT {
+                    tri.intersect_watertight(rd, t_max)
+                } else {
+                    tri.intersect_moller_trumbore(rd, t_max)
+                }
+            }
+            CONE => self.prims.cones[i].intersect(rd, t_max).map(|t| (t, zero, zero)),
+            _ => self.prims.planes[i].intersect(rd, t_max).map(|t| (t, zero, zero)),
+        }
+    }
+
+    /// Keeps the hit if it is closer, or equally close and given earlier.
+    #[inline(always)]
+    fn offer(&self, best: &mut Best<T>, r: u32, (t, b1, b2): (T, T, T)) -> bool {
+        // The kernel already ensured t <= best.t.
+        if best.r == NO_HIT || t < best.t || self.prims.key(r) < self.prims.key(best.r) {
+            *best = Best { r, t, b1, b2 };
+            true
+        } else {
+            false
+        }
+    }
+
+    /// Every reference, for brute force.
+    fn all_refs(&self) -> impl Iterator<Item = u32> + '_ {
+        let p = &self.prims;
+        (0..p.spheres.len())
+            .map(|i| make_ref(SPHERE, i))
+            .chain((0..p.triangles.len()).map(|i| make_ref(TRIANGLE, i)))
+            .chain((0..p.cones.len()).map(|i| make_ref(CONE, i)))
+    }
+
+    #[inline(always)]
+    fn closest<const WATERTIGHT: bool>(&self, ray: &Ray<T>) -> Option<Hit<T>> {
+        let rd = RayData::new(ray)?;
+        let mut best = Best {
+            r: NO_HIT,
+            t: rd.t_limit,
+            b1: T::ZERO,
+            b2: T::ZERO,
+        };
+        for i in 0..self.prims.planes.len() {
+            let r = make_ref(PLANE, i);
+            if let Some(h) = self.test::<WATERTIGHT>(r, &rd, best.t) {
+                self.offer(&mut best, r, h);
+            }
+        }
+        match &self.bvh {
+            Some(bvh) => {
+                bvh.traverse::<T, false>(&rd.traversal, best.t, |refs, _| {
+                    let mut improved = false;
+                    for &r in refs {
+                        if let Some(h) = self.test::<WATERTIGHT>(r, &rd, best.t) {
+                            improved |= self.offer(&mut best, r, h);
+                        }
+                    }
+                    improved.then_some(best.t)
+                });
+            }
+            None => {
+                for r in self.all_refs() {
+                    if let Some(h) = self.test::<WATERTIGHT>(r, &rd, best.t) {
+                        self.offer(&mut best, r, h);
+                    }
+                }
+            }
+        }
+        (best.r != NO_HIT).then(|| self.make_hit(&best, &rd))
+    }
+
+    #[inline(always)]
+    fn any<const WATERTIGHT: bool>(&self, ray: &Ray<T>) -> bool {
+        let Some(rd) = RayData::new(ray) else {
+            return false;
+        };
+        let limit = rd.t_limit;
+        let hits = |r: u32| self.test::<WATERTIGHT>(r, &rd, limit).is_some();
+        if (0..self.prims.planes.len()).any(|i| hits(make_ref(PLANE, i))) {
+            return true;
+        }
+        match &self.bvh {
+            Some(bvh) => bvh.traverse::<T, true>(&rd.traversal, limit, |refs, _| {
+                refs.iter().any(|&r| hits(r)).then_some(limit)
+            }),
+            None => self.all_refs().any(hits),
+        }
+    }
+
+    /// Fills in the hit record for the winning candidate.
+    fn make_hit(&self, b: &Best<T>, rd: &RayData<T>) -> Hit<T> {
+        let i = (b.r & INDEX_MASK) as usize;
+        let p = &self.prims;
+        let flip = |n: Vec3<T>, inside: bool| if inside { (-&n).eval() } else { n };
+        let (point, ng, ns, info_id, material) = match b.r >> TAG_SHIFT {
+            SPHERE => {
+                let info = &p.sphere_info[i];
+                let (n, point) = p.spheres[i].normal_and_point(rd, b.t);
+                let n = flip(n, info.inside_visible);
+                (point, n, n, info.prim_id, info.material)
+            }
+            TRIANGLE => {
+                let info = &p.triangle_info[i];
+                let point = p.triangles[i].point(b.b1, b.b2);
+                let ng = info.normal;
+                let ns = if info.shading == NO_SHADING {
+                    ng
+                } else {
+                    let n = &p.shading[info.shading as usize];
+                    let b0 = T::ONE - b.b1 - b.b2;
+                    let s = ((&n[0]).scale(b0) + (&n[1]).scale(b.b1) + (&n[2]).scale(b.b2)).normalize();
+                    // normalize() gives a unit vector, zero, or NaN.
+                    let d = s.dot(&ng);
+                    if !(s.length_squared() > <T as Real>::from_f64(0.5)) || d.is_nan() {
+                        ng
+                    } else if d < T::ZERO {
+                        (-&s).eval()
+                    } else {
+                        s
+                    }
+                };
+                (point, ng, ns, info.prim_id, info.material)
+            }
+            CONE => {
+                let info = &p.cone_info[i];
+                let n = flip(p.cones[i].normal(rd, b.t), info.inside_visible);
+                let point = (&rd.origin + (&rd.dir).scale(b.t)).eval();
+                (point, n, n, info.prim_id, info.material)
+            }
+            _ => {
+                let info = &p.plane_info[i];
+                let n = p.planes[i].normal;
+                let point = (&rd.origin + (&rd.dir).scale(b.t)).eval();
+                (point, n, n, info.prim_id, info.material)
+            }
+        };
+        Hit {
+            t: b.t,
+            point,
+            geometric_normal: ng,
+            shading_normal: ns,
+            prim_id: info_id,
+            material,
+        }
+    }
+}

@@ -1,0 +1,135 @@
+//! Per-ray values shared by all primitive tests, computed once per query.
+
+use crate::bvh::TraversalRay;
+use crate::ray::Ray;
+use vecexpr::{Expr, Real, Vec3};
+
+/// The shear that maps the ray to the +z axis for the watertight triangle test (Woop,
+/// Benthin, Wald 2013, section 3): `kz` is the axis of largest $|d|$, `kx`, `ky` the other
+/// two (swapped when $d_{kz} < 0$ to keep the winding), and
+/// $S = (d_{kx}/d_{kz}, d_{ky}/d_{kz}, 1/d_{kz})$.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Shear<T: Real> {
+    pub kx: usize,
+    pub ky: usize,
+    pub kz: usize,
+    pub sx: T,
+    pub sy: T,
+    pub sz: T,
+}
+
+impl<T: Real> Shear<T> {
+    #[inline(always)]
+    fn new(d: &Vec3<T>) -> Self {
+        let a = [d[0].abs(), d[1].abs(), d[2].abs()];
+        let kz = if a[0] > a[1] {
+            if a[0] > a[2] {
+                0
+            } else {
+                2
+            }
+        } else if a[1] > a[2] {
+            1
+        } else {
+            2
+        };
+        let mut kx = if kz == 2 { 0 } else { kz + 1 };
+        let mut ky = if kx == 2 { 0 } else { kx + 1 };
+        if d[kz] < T::ZERO {
+            core::mem::swap(&mut kx, &mut ky);
+        }
+        let sz = d[kz].recip();
+        Self {
+            kx,
+            ky,
+            kz,
+            sx: d[kx] * sz,
+            sy: d[ky] * sz,
+            sz,
+        }
+    }
+}
+
+/// A validated ray with everything the kernels precompute.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct RayData<T: Real> {
+    pub origin: Vec3<T>,
+    pub dir: Vec3<T>,
+    /// Exclusive lower bound on `t`.
+    pub t_min: T,
+    /// Inclusive upper bound: the largest `T` below the ray's exclusive `t_max`. Hits are
+    /// accepted at `t <= t_limit` so that equal distances can be ordered by primitive
+    /// index.
+    pub t_limit: T,
+    /// $d \cdot d$.
+    pub dd: T,
+    /// $1 / (d \cdot d)$.
+    pub inv_dd: T,
+    pub shear: Shear<T>,
+    pub traversal: TraversalRay<T>,
+}
+
+impl<T: Real> RayData<T> {
+    /// `None` for rays that cannot hit anything: a non-finite origin or direction, a
+    /// direction whose squared length is zero, subnormal or overflows, a NaN bound, or an
+    /// empty interval.
+    #[inline(always)]
+    pub fn new(ray: &Ray<T>) -> Option<Self> {
+        let finite = ray.origin.iter().chain(ray.dir.iter()).all(|x| x.is_finite());
+        let dd = ray.dir.length_squared();
+        if !finite
+            || !(dd >= T::MIN_POSITIVE && dd <= T::MAX)
+            || ray.t_min.is_nan()
+            || !(ray.t_max > ray.t_min)
+        {
+            return None;
+        }
+        let t_min = ray.t_min;
+        Some(Self {
+            origin: ray.origin,
+            dir: ray.dir,
+            t_min,
+            t_limit: ray.t_max.next_down(),
+            dd,
+            inv_dd: dd.recip(),
+            shear: Shear::new(&ray.dir),
+            traversal: TraversalRay::new(&ray.origin, &ray.dir, t_min),
+        })
+    }
+
+    /// Is `t` in the accepted interval $(t_{min}, t_{max}]$ with `t_max` inclusive?
+    #[inline(always)]
+    pub fn accepts(&self, t: T, t_max: T) -> bool {
+        t > self.t_min && t <= t_max
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use vecexpr::vec3;
+
+    #[test]
+    fn shear_axes() {
+        let s = Shear::new(&vec3(0.1f32, -0.2, 0.9));
+        assert_eq!((s.kx, s.ky, s.kz), (0, 1, 2));
+        let s = Shear::new(&vec3(0.1f32, -0.2, -0.9));
+        assert_eq!((s.kx, s.ky, s.kz), (1, 0, 2));
+        let s = Shear::new(&vec3(-3.0f64, 1.0, 1.0));
+        assert_eq!((s.kx, s.ky, s.kz), (2, 1, 0));
+        assert_eq!(s.sz, -1.0 / 3.0);
+    }
+
+    #[test]
+    fn invalid_rays() {
+        let o = vec3(0.0f32, 0.0, 0.0);
+        let d = vec3(0.0f32, 0.0, 1.0);
+        assert!(RayData::new(&Ray::new(o, d)).is_some());
+        assert!(RayData::new(&Ray::new(vec3(f32::NAN, 0.0, 0.0), d)).is_none());
+        assert!(RayData::new(&Ray::new(o, vec3(0.0, f32::INFINITY, 1.0))).is_none());
+        assert!(RayData::new(&Ray::new(o, vec3(0.0, 0.0, 0.0))).is_none());
+        assert!(RayData::new(&Ray { t_max: f32::NAN, ..Ray::new(o, d) }).is_none());
+        assert!(RayData::new(&Ray { t_min: 2.0, t_max: 1.0, ..Ray::new(o, d) }).is_none());
+        assert_eq!(RayData::new(&Ray::new(o, d)).unwrap().t_limit, f32::MAX);
+    }
+}

@@ -1,0 +1,232 @@
+//! Primitive storage: one array per type, hot data apart from cold data.
+//!
+//! # Why typed arrays and not an enum
+//! An enum of all primitives would be as large as its largest variant plus a tag (a
+//! cone's 36 bytes in `f32` for every sphere's 16) and would interleave the data the
+//! kernels read with ids and materials needed only once per ray. Instead each type has
+//! a dense array of exactly what its kernel reads (`Sphere`: centre and radius;
+//! `Triangle`: three vertices; `Cone`: frame and radii) and a parallel array of "cold"
+//! data (input index, material, normals) read only for the final hit. A BVH reference is
+//! a `u32` holding a 2-bit type tag and a 30-bit index into its type's array. After the
+//! build the arrays are reordered into leaf order, so the primitives of a leaf are
+//! adjacent in memory, and a leaf's references are mostly of one type, so the dispatch
+//! branch predicts well.
+
+use super::cone::Cone;
+use super::plane::Plane;
+use super::sphere::Sphere;
+use super::triangle::Triangle;
+use crate::bvh::{Bounds3, BuildPrim, Bvh};
+use vecexpr::{Real, Vec3};
+
+/// Bits of a reference that hold the type tag.
+pub(crate) const TAG_SHIFT: u32 = 30;
+/// Mask of the index part of a reference.
+pub(crate) const INDEX_MASK: u32 = (1 << TAG_SHIFT) - 1;
+/// Largest number of primitives of one type.
+pub(crate) const MAX_PER_TYPE: usize = INDEX_MASK as usize;
+pub(crate) const SPHERE: u32 = 0;
+pub(crate) const TRIANGLE: u32 = 1;
+pub(crate) const CONE: u32 = 2;
+pub(crate) const PLANE: u32 = 3;
+/// "No shading normals" in [`TriangleInfo::shading`].
+pub(crate) const NO_SHADING: u32 = u32::MAX;
+
+/// A typed reference.
+#[inline(always)]
+pub(crate) fn make_ref(tag: u32, index: usize) -> u32 {
+    debug_assert!(index <= MAX_PER_TYPE);
+    (tag << TAG_SHIFT) | index as u32
+}
+
+/// Cold data of a sphere, cone or plane.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct PrimInfo {
+    pub prim_id: u32,
+    pub material: u32,
+    /// Normals point inward (NFF negative radius).
+    pub inside_visible: bool,
+}
+
+/// Cold data of a triangle.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct TriangleInfo<T: Real> {
+    pub prim_id: u32,
+    pub material: u32,
+    /// Index of the triangle within its polygon, to order ties between them.
+    pub sub: u32,
+    /// Index into [`Prims::shading`], or [`NO_SHADING`].
+    pub shading: u32,
+    /// Unit geometric normal (the polygon's, for triangles cut from a polygon).
+    pub normal: Vec3<T>,
+}
+
+/// All primitives of a scene.
+#[derive(Clone, Debug)]
+pub(crate) struct Prims<T: Real> {
+    pub spheres: Vec<Sphere<T>>,
+    pub sphere_info: Vec<PrimInfo>,
+    pub triangles: Vec<Triangle<T>>,
+    pub triangle_info: Vec<TriangleInfo<T>>,
+    /// Unit (or zero) vertex normals of smooth-shaded triangles.
+    pub shading: Vec<[Vec3<T>; 3]>,
+    pub cones: Vec<Cone<T>>,
+    pub cone_info: Vec<PrimInfo>,
+    pub planes: Vec<Plane<T>>,
+    pub plane_info: Vec<PrimInfo>,
+}
+
+impl<T: Real> Default for Prims<T> {
+    fn default() -> Self {
+        Self {
+            spheres: Vec::new(),
+            sphere_info: Vec::new(),
+            triangles: Vec::new(),
+            triangle_info: Vec::new(),
+            shading: Vec::new(),
+            cones: Vec::new(),
+            cone_info: Vec::new(),
+            planes: Vec::new(),
+            plane_info: Vec::new(),
+        }
+    }
+}
+
+/// Pads an `f64` box by a few ulps of `T` relative to its magnitude and size, so that
+/// rounding in the intersection kernels cannot report a hit outside the box, then rounds
+/// it outward to `f32`.
+fn padded<T: Real>(lo: [f64; 3], hi: [f64; 3]) -> Bounds3 {
+    let mag = (0..3).fold(0.0f64, |m, a| m.max(lo[a].abs()).max(hi[a].abs()).max(hi[a] - lo[a]));
+    let pad = 4.0 * T::EPSILON.to_f64() * mag;
+    Bounds3::from_f64(lo.map(|x| x - pad), hi.map(|x| x + pad))
+}
+
+impl<T: Real> Prims<T> {
+    /// Number of primitives in the BVH (planes excluded).
+    pub fn bvh_len(&self) -> usize {
+        self.spheres.len() + self.triangles.len() + self.cones.len()
+    }
+
+    /// Bytes of all primitive arrays.
+    pub fn bytes(&self) -> usize {
+        use core::mem::size_of_val;
+        size_of_val(self.spheres.as_slice())
+            + size_of_val(self.sphere_info.as_slice())
+            + size_of_val(self.triangles.as_slice())
+            + size_of_val(self.triangle_info.as_slice())
+            + size_of_val(self.shading.as_slice())
+            + size_of_val(self.cones.as_slice())
+            + size_of_val(self.cone_info.as_slice())
+            + size_of_val(self.planes.as_slice())
+            + size_of_val(self.plane_info.as_slice())
+    }
+
+    /// `(prim_id, sub)` of a reference: ties in `t` go to the smaller key, i.e. to the
+    /// primitive given first, whatever order the BVH visits them in.
+    #[inline]
+    pub fn key(&self, r: u32) -> (u32, u32) {
+        let i = (r & INDEX_MASK) as usize;
+        match r >> TAG_SHIFT {
+            SPHERE => (self.sphere_info[i].prim_id, 0),
+            TRIANGLE => (self.triangle_info[i].prim_id, self.triangle_info[i].sub),
+            CONE => (self.cone_info[i].prim_id, 0),
+            _ => (self.plane_info[i].prim_id, 0),
+        }
+    }
+
+    /// Conservative `f32` boxes of every BVH primitive, with their typed references.
+    pub fn build_prims(&self) -> Vec<BuildPrim> {
+        let mut out = Vec::with_capacity(self.bvh_len());
+        for (i, s) in self.spheres.iter().enumerate() {
+            let r = s.radius.to_f64();
+            let c: [f64; 3] = core::array::from_fn(|a| s.center[a].to_f64());
+            out.push(BuildPrim {
+                bounds: padded::<T>(c.map(|x| x - r), c.map(|x| x + r)),
+                id: make_ref(SPHERE, i),
+            });
+        }
+        for (i, t) in self.triangles.iter().enumerate() {
+            let mut lo = [f64::INFINITY; 3];
+            let mut hi = [f64::NEG_INFINITY; 3];
+            for v in &t.v {
+                for a in 0..3 {
+                    lo[a] = lo[a].min(v[a].to_f64());
+                    hi[a] = hi[a].max(v[a].to_f64());
+                }
+            }
+            out.push(BuildPrim {
+                bounds: padded::<T>(lo, hi),
+                id: make_ref(TRIANGLE, i),
+            });
+        }
+        for (i, c) in self.cones.iter().enumerate() {
+            let (lo, hi) = c.bounds_f64();
+            out.push(BuildPrim {
+                bounds: padded::<T>(lo, hi),
+                id: make_ref(CONE, i),
+            });
+        }
+        out
+    }
+
+    /// Reorders the primitive arrays into the BVH's leaf order and points the BVH's
+    /// references at the new positions.
+    pub fn reorder(&mut self, bvh: &mut Bvh) {
+        let mut spheres = Vec::with_capacity(self.spheres.len());
+        let mut sphere_info = Vec::with_capacity(self.spheres.len());
+        let mut triangles = Vec::with_capacity(self.triangles.len());
+        let mut triangle_info = Vec::with_capacity(self.triangles.len());
+        let mut cones = Vec::with_capacity(self.cones.len());
+        let mut cone_info = Vec::with_capacity(self.cones.len());
+        bvh.remap_refs(|_, r| {
+            let i = (r & INDEX_MASK) as usize;
+            match r >> TAG_SHIFT {
+                SPHERE => {
+                    spheres.push(self.spheres[i]);
+                    sphere_info.push(self.sphere_info[i]);
+                    make_ref(SPHERE, spheres.len() - 1)
+                }
+                TRIANGLE => {
+                    triangles.push(self.triangles[i]);
+                    triangle_info.push(self.triangle_info[i]);
+                    make_ref(TRIANGLE, triangles.len() - 1)
+                }
+                _ => {
+                    cones.push(self.cones[i]);
+                    cone_info.push(self.cone_info[i]);
+                    make_ref(CONE, cones.len() - 1)
+                }
+            }
+        });
+        debug_assert_eq!(spheres.len(), self.spheres.len());
+        debug_assert_eq!(triangles.len(), self.triangles.len());
+        debug_assert_eq!(cones.len(), self.cones.len());
+        self.spheres = spheres;
+        self.sphere_info = sphere_info;
+        self.triangles = triangles;
+        self.triangle_info = triangle_info;
+        self.cones = cones;
+        self.cone_info = cone_info;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn hot_data_sizes() {
+        assert_eq!(core::mem::size_of::<Sphere<f32>>(), 16);
+        assert_eq!(core::mem::size_of::<Triangle<f32>>(), 36);
+        assert_eq!(core::mem::size_of::<Cone<f32>>(), 36);
+        assert_eq!(core::mem::size_of::<Sphere<f64>>(), 32);
+        assert_eq!(core::mem::size_of::<PrimInfo>(), 12);
+    }
+
+    #[test]
+    fn references() {
+        let r = make_ref(CONE, 12345);
+        assert_eq!((r >> TAG_SHIFT, r & INDEX_MASK), (CONE, 12345));
+        assert_ne!(make_ref(PLANE, MAX_PER_TYPE - 1), u32::MAX);
+    }
+}
