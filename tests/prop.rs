@@ -96,10 +96,44 @@ pub fn moderate<E: RefFloat>() -> SBoxedStrategy<E> {
         .sboxed()
 }
 
-/// `len` values from `s`.
-pub fn vec_of<E: RefFloat>(
-    s: SBoxedStrategy<E>,
-    len: usize,
-) -> impl Strategy<Value = Vec<E>> + Send + 'static {
-    proptest::collection::vec(s, len)
+/// The operands of one property-test case, in lane-major order (see
+/// `integration_tests::build`): five vectors of `N * LANES` elements, a per-lane scalar,
+/// one lane value and a free index.
+#[derive(Clone, Debug)]
+pub struct Inputs<E> {
+    /// First vector operand.
+    pub a: Vec<E>,
+    /// Second vector operand.
+    pub b: Vec<E>,
+    /// Third vector operand.
+    pub c: Vec<E>,
+    /// Fourth vector operand.
+    pub d: Vec<E>,
+    /// Fifth vector operand.
+    pub e: Vec<E>,
+    /// A scalar of the vector's own type, one value per lane.
+    pub s: Vec<E>,
+    /// A plain lane value.
+    pub x: E,
+    /// An arbitrary index (reduce it modulo what is needed).
+    pub idx: usize,
+}
+
+/// Inputs with vectors of `len` elements and `lanes` scalar lanes, every element drawn
+/// from `elem`. All tests share this one strategy type, so the property-test machinery is
+/// compiled once per lane type.
+pub fn inputs<E: RefFloat>(len: usize, lanes: usize, elem: SBoxedStrategy<E>) -> SBoxedStrategy<Inputs<E>> {
+    let v = || proptest::collection::vec(elem.clone(), len);
+    (
+        v(),
+        v(),
+        v(),
+        v(),
+        v(),
+        proptest::collection::vec(elem.clone(), lanes),
+        elem.clone(),
+        any::<usize>(),
+    )
+        .prop_map(|(a, b, c, d, e, s, x, idx)| Inputs { a, b, c, d, e, s, x, idx })
+        .sboxed()
 }

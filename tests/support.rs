@@ -280,6 +280,12 @@ pub fn mask_lanes<M: Mask, N: ArrayLength>(v: &Vector<M, N>) -> Vec<bool> {
     (0..k * M::LANES).map(|j| v[j % k].test(j / k)).collect()
 }
 
+/// The lanes of one mask value, in order.
+#[inline(never)]
+pub fn mask_bits<M: Mask>(m: M) -> Vec<bool> {
+    (0..M::LANES).map(|l| m.test(l)).collect()
+}
+
 /// Lane-major data for a per-lane scalar broadcast over `k` elements: lane `l` of the
 /// scalar is repeated `k` times.
 #[inline(never)]
@@ -720,55 +726,64 @@ pub mod naive {
 
 // ----- instantiation macros -------------------------------------------------------------
 
-/// Invokes `$body!(module, T, E, N, n)` for every scalar type `T` (`f32`, `f64`,
+/// Invokes `$body!(module, T, E, N, n, kind)` for every scalar type `T` (`f32`, `f64`,
 /// `Packet<f32, U4 | U8 | U16>`, `Packet<f64, U4 | U8>`, lane type `E`) and every
 /// dimension `N` in {1, 2, 3, 4, 7, 16, 1000} (`n` is `N` as a literal), inside one
-/// module per scalar type (`f32`, `f64`, `f32x4`, ...).
+/// module per scalar type (`f32`, `f64`, `f32x4`, ...). `kind` is the identifier `scalar`
+/// for `f32`/`f64` and `packet` for packets, for code that only one of them supports.
 ///
 /// The generated modules `use super::*`, so `$body` sees the caller's imports.
 #[macro_export]
 macro_rules! for_each_case {
     ($body:ident) => {
-        $crate::for_each_case!(@dims $body, f32, f32, f32);
-        $crate::for_each_case!(@dims $body, f64, f64, f64);
+        $crate::for_each_case!(@dims $body, f32, f32, f32, scalar);
+        $crate::for_each_case!(@dims $body, f64, f64, f64, scalar);
         $crate::for_each_case!(@dims $body, f32x4,
-            $crate::vecexpr::Packet<f32, $crate::vecexpr::typenum::U4>, f32);
+            $crate::vecexpr::Packet<f32, $crate::vecexpr::typenum::U4>, f32, packet);
         $crate::for_each_case!(@dims $body, f32x8,
-            $crate::vecexpr::Packet<f32, $crate::vecexpr::typenum::U8>, f32);
+            $crate::vecexpr::Packet<f32, $crate::vecexpr::typenum::U8>, f32, packet);
         $crate::for_each_case!(@dims $body, f32x16,
-            $crate::vecexpr::Packet<f32, $crate::vecexpr::typenum::U16>, f32);
+            $crate::vecexpr::Packet<f32, $crate::vecexpr::typenum::U16>, f32, packet);
         $crate::for_each_case!(@dims $body, f64x4,
-            $crate::vecexpr::Packet<f64, $crate::vecexpr::typenum::U4>, f64);
+            $crate::vecexpr::Packet<f64, $crate::vecexpr::typenum::U4>, f64, packet);
         $crate::for_each_case!(@dims $body, f64x8,
-            $crate::vecexpr::Packet<f64, $crate::vecexpr::typenum::U8>, f64);
+            $crate::vecexpr::Packet<f64, $crate::vecexpr::typenum::U8>, f64, packet);
     };
-    (@dims $body:ident, $name:ident, $t:ty, $e:ty) => {
+    (@dims $body:ident, $name:ident, $t:ty, $e:ty, $kind:ident) => {
         mod $name {
             #[allow(unused_imports)]
             use super::*;
-            $body!(n1, $t, $e, $crate::vecexpr::typenum::U1, 1);
-            $body!(n2, $t, $e, $crate::vecexpr::typenum::U2, 2);
-            $body!(n3, $t, $e, $crate::vecexpr::typenum::U3, 3);
-            $body!(n4, $t, $e, $crate::vecexpr::typenum::U4, 4);
-            $body!(n7, $t, $e, $crate::vecexpr::typenum::U7, 7);
-            $body!(n16, $t, $e, $crate::vecexpr::typenum::U16, 16);
-            $body!(n1000, $t, $e, $crate::vecexpr::typenum::U1000, 1000);
+            $body!(n1, $t, $e, $crate::vecexpr::typenum::U1, 1, $kind);
+            $body!(n2, $t, $e, $crate::vecexpr::typenum::U2, 2, $kind);
+            $body!(n3, $t, $e, $crate::vecexpr::typenum::U3, 3, $kind);
+            $body!(n4, $t, $e, $crate::vecexpr::typenum::U4, 4, $kind);
+            $body!(n7, $t, $e, $crate::vecexpr::typenum::U7, 7, $kind);
+            $body!(n16, $t, $e, $crate::vecexpr::typenum::U16, 16, $kind);
+            $body!(n1000, $t, $e, $crate::vecexpr::typenum::U1000, 1000, $kind);
         }
     };
 }
 
-/// Invokes `$body!(module, T, E)` for every scalar type of [`for_each_case!`].
+/// Invokes `$body!(module, T, E, kind)` for every scalar type of [`for_each_case!`].
 #[macro_export]
 macro_rules! for_each_scalar {
     ($body:ident) => {
-        $body!(f32, f32, f32);
-        $body!(f64, f64, f64);
-        $body!(f32x4, $crate::vecexpr::Packet<f32, $crate::vecexpr::typenum::U4>, f32);
-        $body!(f32x8, $crate::vecexpr::Packet<f32, $crate::vecexpr::typenum::U8>, f32);
-        $body!(f32x16, $crate::vecexpr::Packet<f32, $crate::vecexpr::typenum::U16>, f32);
-        $body!(f64x4, $crate::vecexpr::Packet<f64, $crate::vecexpr::typenum::U4>, f64);
-        $body!(f64x8, $crate::vecexpr::Packet<f64, $crate::vecexpr::typenum::U8>, f64);
+        $body!(f32, f32, f32, scalar);
+        $body!(f64, f64, f64, scalar);
+        $body!(f32x4, $crate::vecexpr::Packet<f32, $crate::vecexpr::typenum::U4>, f32, packet);
+        $body!(f32x8, $crate::vecexpr::Packet<f32, $crate::vecexpr::typenum::U8>, f32, packet);
+        $body!(f32x16, $crate::vecexpr::Packet<f32, $crate::vecexpr::typenum::U16>, f32, packet);
+        $body!(f64x4, $crate::vecexpr::Packet<f64, $crate::vecexpr::typenum::U4>, f64, packet);
+        $body!(f64x8, $crate::vecexpr::Packet<f64, $crate::vecexpr::typenum::U8>, f64, packet);
     };
+}
+
+/// Expands its body only for `scalar` (plain `f32`/`f64`) cases of [`for_each_case!`]:
+/// `only_scalar!(kind, { ... })`.
+#[macro_export]
+macro_rules! only_scalar {
+    (scalar, { $($body:tt)* }) => { $($body)* };
+    (packet, { $($body:tt)* }) => {};
 }
 
 #[cfg(test)]

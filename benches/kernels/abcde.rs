@@ -39,83 +39,169 @@ pub fn bench(c: &mut Criterion) {
     single5(&mut g, "vecexpr", "3", a.map(V3::from), |a, b, c, d, e| {
         (a * b + c * d - e).eval()
     });
-    single5(&mut g, "vecexpr_fma", "3", a.map(V3::from), |a, b, c, d, e| {
-        a.mul_add(b, c * d - e).eval()
+    single5(
+        &mut g,
+        "vecexpr_fma",
+        "3",
+        a.map(V3::from),
+        |a, b, c, d, e| a.mul_add(b, c * d - e).eval(),
+    );
+    single5(
+        &mut g,
+        "eager",
+        "3",
+        a.map(|v| Eager::<f32, U3>::from_fn(|k| v[k])),
+        |a, b, c, d, e| &(&(a * b) + &(c * d)) - e,
+    );
+    single5(&mut g, "hand", "3", a, |a, b, c, d, e| {
+        hand::abcde3(*a, *b, *c, *d, *e)
     });
-    single5(&mut g, "eager", "3", a.map(|v| Eager::<f32, U3>::from_fn(|k| v[k])), |a, b, c, d, e| {
-        &(&(a * b) + &(c * d)) - e
-    });
-    single5(&mut g, "hand", "3", a, |a, b, c, d, e| hand::abcde3(*a, *b, *c, *d, *e));
-    single5(&mut g, "glam_vec3", "3", a.map(glam::Vec3::from), |a, b, c, d, e| {
-        *a * *b + *c * *d - *e
-    });
-    single5(&mut g, "glam_vec3a", "3", a.map(glam::Vec3A::from), |a, b, c, d, e| {
-        *a * *b + *c * *d - *e
-    });
-    single5(&mut g, "nalgebra", "3", a.map(nalgebra::Vector3::from), |a, b, c, d, e| {
-        a.component_mul(b) + c.component_mul(d) - e
-    });
+    single5(
+        &mut g,
+        "glam_vec3",
+        "3",
+        a.map(glam::Vec3::from),
+        |a, b, c, d, e| *a * *b + *c * *d - *e,
+    );
+    single5(
+        &mut g,
+        "glam_vec3a",
+        "3",
+        a.map(glam::Vec3A::from),
+        |a, b, c, d, e| *a * *b + *c * *d - *e,
+    );
+    single5(
+        &mut g,
+        "nalgebra",
+        "3",
+        a.map(nalgebra::Vector3::from),
+        |a, b, c, d, e| a.component_mul(b) + c.component_mul(d) - e,
+    );
 
     // One 4-vector.
     let a4: [[f32; 4]; 5] = core::array::from_fn(|_| {
         let v = rng.vec(4);
         [v[0], v[1], v[2], v[3]]
     });
-    single5(&mut g, "vecexpr", "4", a4.map(Vector::<f32, U4>::from), |a, b, c, d, e| {
-        (a * b + c * d - e).eval()
-    });
-    single5(&mut g, "vecexpr_fma", "4", a4.map(Vector::<f32, U4>::from), |a, b, c, d, e| {
-        a.mul_add(b, c * d - e).eval()
-    });
-    single5(&mut g, "eager", "4", a4.map(|v| Eager::<f32, U4>::from_fn(|k| v[k])), |a, b, c, d, e| {
-        &(&(a * b) + &(c * d)) - e
-    });
+    single5(
+        &mut g,
+        "vecexpr",
+        "4",
+        a4.map(Vector::<f32, U4>::from),
+        |a, b, c, d, e| (a * b + c * d - e).eval(),
+    );
+    single5(
+        &mut g,
+        "vecexpr_fma",
+        "4",
+        a4.map(Vector::<f32, U4>::from),
+        |a, b, c, d, e| a.mul_add(b, c * d - e).eval(),
+    );
+    single5(
+        &mut g,
+        "eager",
+        "4",
+        a4.map(|v| Eager::<f32, U4>::from_fn(|k| v[k])),
+        |a, b, c, d, e| &(&(a * b) + &(c * d)) - e,
+    );
     single5(&mut g, "hand", "4", a4, |a, b, c, d, e| {
         [0, 1, 2, 3].map(|k| a[k] * b[k] + c[k] * d[k] - e[k])
     });
-    single5(&mut g, "glam_vec4", "4", a4.map(glam::Vec4::from), |a, b, c, d, e| {
-        *a * *b + *c * *d - *e
-    });
-    single5(&mut g, "nalgebra", "4", a4.map(nalgebra::Vector4::from), |a, b, c, d, e| {
-        a.component_mul(b) + c.component_mul(d) - e
-    });
+    single5(
+        &mut g,
+        "glam_vec4",
+        "4",
+        a4.map(glam::Vec4::from),
+        |a, b, c, d, e| *a * *b + *c * *d - *e,
+    );
+    single5(
+        &mut g,
+        "nalgebra",
+        "4",
+        a4.map(nalgebra::Vector4::from),
+        |a, b, c, d, e| a.component_mul(b) + c.component_mul(d) - e,
+    );
 
     // 4096 3-vectors, AoS and SoA.
     let bs: [Batch; 5] = core::array::from_fn(|_| Batch::random(&mut rng, config::BATCH));
     g.throughput(Throughput::Elements(config::BATCH as u64));
-    batch5(&mut g, "vecexpr", AOS, &core::array::from_fn(|k| bs[k].vx.clone()), |a, b, c, d, e| {
-        (a * b + c * d - e).eval()
-    });
-    batch5(&mut g, "vecexpr_fma", AOS, &core::array::from_fn(|k| bs[k].vx.clone()), |a, b, c, d, e| {
-        a.mul_add(b, c * d - e).eval()
-    });
-    batch5(&mut g, "eager", AOS, &core::array::from_fn(|k| bs[k].eager.clone()), |a, b, c, d, e| {
-        &(&(a * b) + &(c * d)) - e
-    });
-    batch5(&mut g, "hand", AOS, &core::array::from_fn(|k| bs[k].arr.clone()), |a, b, c, d, e| {
-        hand::abcde3(*a, *b, *c, *d, *e)
-    });
-    batch5(&mut g, "glam_vec3", AOS, &core::array::from_fn(|k| bs[k].glam3.clone()), |a, b, c, d, e| {
-        *a * *b + *c * *d - *e
-    });
-    batch5(&mut g, "glam_vec3a", AOS, &core::array::from_fn(|k| bs[k].glam3a.clone()), |a, b, c, d, e| {
-        *a * *b + *c * *d - *e
-    });
-    batch5(&mut g, "nalgebra", AOS, &core::array::from_fn(|k| bs[k].na.clone()), |a, b, c, d, e| {
-        a.component_mul(b) + c.component_mul(d) - e
-    });
-    batch5(&mut g, "vecexpr", SOA8, &core::array::from_fn(|k| bs[k].p8.clone()), |a, b, c, d, e| {
-        (a * b + c * d - e).eval()
-    });
-    batch5(&mut g, "eager", SOA8, &core::array::from_fn(|k| bs[k].e8.clone()), |a, b, c, d, e| {
-        &(&(a * b) + &(c * d)) - e
-    });
-    batch5(&mut g, "ultraviolet", SOA8, &core::array::from_fn(|k| bs[k].uv.clone()), |a, b, c, d, e| {
-        *a * *b + *c * *d - *e
-    });
-    batch5(&mut g, "vecexpr", SOA16, &core::array::from_fn(|k| bs[k].p16.clone()), |a, b, c, d, e| {
-        (a * b + c * d - e).eval()
-    });
+    batch5(
+        &mut g,
+        "vecexpr",
+        AOS,
+        &core::array::from_fn(|k| bs[k].vx.clone()),
+        |a, b, c, d, e| (a * b + c * d - e).eval(),
+    );
+    batch5(
+        &mut g,
+        "vecexpr_fma",
+        AOS,
+        &core::array::from_fn(|k| bs[k].vx.clone()),
+        |a, b, c, d, e| a.mul_add(b, c * d - e).eval(),
+    );
+    batch5(
+        &mut g,
+        "eager",
+        AOS,
+        &core::array::from_fn(|k| bs[k].eager.clone()),
+        |a, b, c, d, e| &(&(a * b) + &(c * d)) - e,
+    );
+    batch5(
+        &mut g,
+        "hand",
+        AOS,
+        &core::array::from_fn(|k| bs[k].arr.clone()),
+        |a, b, c, d, e| hand::abcde3(*a, *b, *c, *d, *e),
+    );
+    batch5(
+        &mut g,
+        "glam_vec3",
+        AOS,
+        &core::array::from_fn(|k| bs[k].glam3.clone()),
+        |a, b, c, d, e| *a * *b + *c * *d - *e,
+    );
+    batch5(
+        &mut g,
+        "glam_vec3a",
+        AOS,
+        &core::array::from_fn(|k| bs[k].glam3a.clone()),
+        |a, b, c, d, e| *a * *b + *c * *d - *e,
+    );
+    batch5(
+        &mut g,
+        "nalgebra",
+        AOS,
+        &core::array::from_fn(|k| bs[k].na.clone()),
+        |a, b, c, d, e| a.component_mul(b) + c.component_mul(d) - e,
+    );
+    batch5(
+        &mut g,
+        "vecexpr",
+        SOA8,
+        &core::array::from_fn(|k| bs[k].p8.clone()),
+        |a, b, c, d, e| (a * b + c * d - e).eval(),
+    );
+    batch5(
+        &mut g,
+        "eager",
+        SOA8,
+        &core::array::from_fn(|k| bs[k].e8.clone()),
+        |a, b, c, d, e| &(&(a * b) + &(c * d)) - e,
+    );
+    batch5(
+        &mut g,
+        "ultraviolet",
+        SOA8,
+        &core::array::from_fn(|k| bs[k].uv.clone()),
+        |a, b, c, d, e| *a * *b + *c * *d - *e,
+    );
+    batch5(
+        &mut g,
+        "vecexpr",
+        SOA16,
+        &core::array::from_fn(|k| bs[k].p16.clone()),
+        |a, b, c, d, e| (a * b + c * d - e).eval(),
+    );
     {
         let s: [benches::data::Soa; 5] = core::array::from_fn(|k| bs[k].soa.clone());
         let mut out = s[0].clone();

@@ -42,47 +42,145 @@ macro_rules! geometry_group {
      ultraviolet: |$ua:ident, $ub:ident| $uv:expr $(,)?) => {
         #[doc = concat!("The criterion group `", $group, "`.")]
         pub fn $fn_name(c: &mut Criterion) {
+            use benches::eager::Eager;
             use glam::{Vec3, Vec3A};
             use nalgebra::Vector3;
             use ultraviolet::Vec3x8;
-            use vecexpr::{Vector, typenum::U3};
-            use benches::eager::Eager;
+            use vecexpr::{typenum::U3, Vector};
             let mut g = config::group(c, $group);
             let (i, n) = rays($seed);
             let hand = |$ha: [f32; 3], $hb: [f32; 3]| -> [f32; 3] { $hd };
-            single(&mut g, "vecexpr", "3", i.vx[0], n.vx[0], |$va: &Vector<f32, U3>, $vb| $vx);
-            single(&mut g, "eager", "3", i.eager[0], n.eager[0], |$ea: &Eager<f32, U3>, $eb| $eg);
+            single(
+                &mut g,
+                "vecexpr",
+                "3",
+                i.vx[0],
+                n.vx[0],
+                |$va: &Vector<f32, U3>, $vb| $vx,
+            );
+            single(
+                &mut g,
+                "eager",
+                "3",
+                i.eager[0],
+                n.eager[0],
+                |$ea: &Eager<f32, U3>, $eb| $eg,
+            );
             single(&mut g, "hand", "3", i.arr[0], n.arr[0], |a, b| hand(*a, *b));
-            single(&mut g, "glam_vec3", "3", i.glam3[0], n.glam3[0], |$ga: &Vec3, $gb: &Vec3| {
-                let ($ga, $gb) = (*$ga, *$gb);
-                $gl
-            });
-            single(&mut g, "glam_vec3a", "3", i.glam3a[0], n.glam3a[0], |$ga: &Vec3A, $gb: &Vec3A| {
-                let ($ga, $gb) = (*$ga, *$gb);
-                $gl
-            });
-            single(&mut g, "nalgebra", "3", i.na[0], n.na[0], |$na: &Vector3<f32>, $nb: &Vector3<f32>| $ne);
+            single(
+                &mut g,
+                "glam_vec3",
+                "3",
+                i.glam3[0],
+                n.glam3[0],
+                |$ga: &Vec3, $gb: &Vec3| {
+                    let ($ga, $gb) = (*$ga, *$gb);
+                    $gl
+                },
+            );
+            single(
+                &mut g,
+                "glam_vec3a",
+                "3",
+                i.glam3a[0],
+                n.glam3a[0],
+                |$ga: &Vec3A, $gb: &Vec3A| {
+                    let ($ga, $gb) = (*$ga, *$gb);
+                    $gl
+                },
+            );
+            single(
+                &mut g,
+                "nalgebra",
+                "3",
+                i.na[0],
+                n.na[0],
+                |$na: &Vector3<f32>, $nb: &Vector3<f32>| $ne,
+            );
             g.throughput(Throughput::Elements(config::BATCH as u64));
-            batch(&mut g, "vecexpr", AOS, &i.vx, &n.vx, |$va: &Vector<f32, U3>, $vb| $vx);
-            batch(&mut g, "eager", AOS, &i.eager, &n.eager, |$ea: &Eager<f32, U3>, $eb| $eg);
+            batch(
+                &mut g,
+                "vecexpr",
+                AOS,
+                &i.vx,
+                &n.vx,
+                |$va: &Vector<f32, U3>, $vb| $vx,
+            );
+            batch(
+                &mut g,
+                "eager",
+                AOS,
+                &i.eager,
+                &n.eager,
+                |$ea: &Eager<f32, U3>, $eb| $eg,
+            );
             batch(&mut g, "hand", AOS, &i.arr, &n.arr, |a, b| hand(*a, *b));
-            batch(&mut g, "glam_vec3", AOS, &i.glam3, &n.glam3, |$ga: &Vec3, $gb: &Vec3| {
-                let ($ga, $gb) = (*$ga, *$gb);
-                $gl
-            });
-            batch(&mut g, "glam_vec3a", AOS, &i.glam3a, &n.glam3a, |$ga: &Vec3A, $gb: &Vec3A| {
-                let ($ga, $gb) = (*$ga, *$gb);
-                $gl
-            });
-            batch(&mut g, "nalgebra", AOS, &i.na, &n.na, |$na: &Vector3<f32>, $nb: &Vector3<f32>| $ne);
-            batch(&mut g, "vecexpr", SOA8, &i.p8, &n.p8, |$va: &Vector<P8, U3>, $vb| $vx);
-            batch(&mut g, "eager", SOA8, &i.e8, &n.e8, |$ea: &Eager<P8, U3>, $eb| $eg);
+            batch(
+                &mut g,
+                "glam_vec3",
+                AOS,
+                &i.glam3,
+                &n.glam3,
+                |$ga: &Vec3, $gb: &Vec3| {
+                    let ($ga, $gb) = (*$ga, *$gb);
+                    $gl
+                },
+            );
+            batch(
+                &mut g,
+                "glam_vec3a",
+                AOS,
+                &i.glam3a,
+                &n.glam3a,
+                |$ga: &Vec3A, $gb: &Vec3A| {
+                    let ($ga, $gb) = (*$ga, *$gb);
+                    $gl
+                },
+            );
+            batch(
+                &mut g,
+                "nalgebra",
+                AOS,
+                &i.na,
+                &n.na,
+                |$na: &Vector3<f32>, $nb: &Vector3<f32>| $ne,
+            );
+            batch(
+                &mut g,
+                "vecexpr",
+                SOA8,
+                &i.p8,
+                &n.p8,
+                |$va: &Vector<P8, U3>, $vb| $vx,
+            );
+            batch(
+                &mut g,
+                "eager",
+                SOA8,
+                &i.e8,
+                &n.e8,
+                |$ea: &Eager<P8, U3>, $eb| $eg,
+            );
             soa(&mut g, "hand", SOA8, &i.soa, &n.soa, hand);
-            batch(&mut g, "ultraviolet", SOA8, &i.uv, &n.uv, |$ua: &Vec3x8, $ub: &Vec3x8| {
-                let ($ua, $ub) = (*$ua, *$ub);
-                $uv
-            });
-            batch(&mut g, "vecexpr", SOA16, &i.p16, &n.p16, |$va: &Vector<P16, U3>, $vb| $vx);
+            batch(
+                &mut g,
+                "ultraviolet",
+                SOA8,
+                &i.uv,
+                &n.uv,
+                |$ua: &Vec3x8, $ub: &Vec3x8| {
+                    let ($ua, $ub) = (*$ua, *$ub);
+                    $uv
+                },
+            );
+            batch(
+                &mut g,
+                "vecexpr",
+                SOA16,
+                &i.p16,
+                &n.p16,
+                |$va: &Vector<P16, U3>, $vb| $vx,
+            );
             g.finish();
         }
     };

@@ -22,32 +22,76 @@ pub fn axpy(c: &mut Criterion) {
     let mut g = config::group(c, "axpy");
     let mut rng = Pcg32::new(2);
     let (x, y) = (rng.vec3s(1)[0], rng.vec3s(1)[0]);
-    single(&mut g, "vecexpr", "3", V3::from(x), V3::from(y), |x, y| (y + x * A).eval());
-    single(&mut g, "vecexpr_fma", "3", V3::from(x), V3::from(y), |x, y| {
+    single(&mut g, "vecexpr", "3", V3::from(x), V3::from(y), |x, y| {
+        (y + x * A).eval()
+    });
+    single(
+        &mut g,
+        "vecexpr_fma",
+        "3",
+        V3::from(x),
+        V3::from(y),
+        |x, y| x.mul_add(A, y).eval(),
+    );
+    single(
+        &mut g,
+        "eager",
+        "3",
+        Eager::<f32, U3>::from_fn(|k| x[k]),
+        Eager::from_fn(|k| y[k]),
+        |x, y| y + &x.scale(A),
+    );
+    single(&mut g, "hand", "3", x, y, |x, y| {
+        [0, 1, 2].map(|k| y[k] + A * x[k])
+    });
+    single(
+        &mut g,
+        "glam_vec3",
+        "3",
+        glam::Vec3::from(x),
+        glam::Vec3::from(y),
+        |x, y| *y + *x * A,
+    );
+    single(
+        &mut g,
+        "glam_vec3a",
+        "3",
+        glam::Vec3A::from(x),
+        glam::Vec3A::from(y),
+        |x, y| *y + *x * A,
+    );
+    single(
+        &mut g,
+        "nalgebra",
+        "3",
+        nalgebra::Vector3::from(x),
+        nalgebra::Vector3::from(y),
+        |x, y| y + x * A,
+    );
+
+    let (bx, by) = (
+        Batch::random(&mut rng, config::BATCH),
+        Batch::random(&mut rng, config::BATCH),
+    );
+    g.throughput(Throughput::Elements(config::BATCH as u64));
+    batch(&mut g, "vecexpr", AOS, &bx.vx, &by.vx, |x, y| {
+        (y + x * A).eval()
+    });
+    batch(&mut g, "vecexpr_fma", AOS, &bx.vx, &by.vx, |x, y| {
         x.mul_add(A, y).eval()
     });
-    single(&mut g, "eager", "3", Eager::<f32, U3>::from_fn(|k| x[k]), Eager::from_fn(|k| y[k]), |x, y| {
+    batch(&mut g, "eager", AOS, &bx.eager, &by.eager, |x, y| {
         y + &x.scale(A)
     });
-    single(&mut g, "hand", "3", x, y, |x, y| [0, 1, 2].map(|k| y[k] + A * x[k]));
-    single(&mut g, "glam_vec3", "3", glam::Vec3::from(x), glam::Vec3::from(y), |x, y| {
+    batch(&mut g, "hand", AOS, &bx.arr, &by.arr, |x, y| {
+        [0, 1, 2].map(|k| y[k] + A * x[k])
+    });
+    batch(&mut g, "glam_vec3", AOS, &bx.glam3, &by.glam3, |x, y| {
         *y + *x * A
     });
-    single(&mut g, "glam_vec3a", "3", glam::Vec3A::from(x), glam::Vec3A::from(y), |x, y| {
+    batch(&mut g, "glam_vec3a", AOS, &bx.glam3a, &by.glam3a, |x, y| {
         *y + *x * A
     });
-    single(&mut g, "nalgebra", "3", nalgebra::Vector3::from(x), nalgebra::Vector3::from(y), |x, y| {
-        y + x * A
-    });
-
-    let (bx, by) = (Batch::random(&mut rng, config::BATCH), Batch::random(&mut rng, config::BATCH));
-    g.throughput(Throughput::Elements(config::BATCH as u64));
-    batch(&mut g, "vecexpr", AOS, &bx.vx, &by.vx, |x, y| (y + x * A).eval());
-    batch(&mut g, "vecexpr_fma", AOS, &bx.vx, &by.vx, |x, y| x.mul_add(A, y).eval());
-    batch(&mut g, "eager", AOS, &bx.eager, &by.eager, |x, y| y + &x.scale(A));
-    batch(&mut g, "hand", AOS, &bx.arr, &by.arr, |x, y| [0, 1, 2].map(|k| y[k] + A * x[k]));
-    batch(&mut g, "glam_vec3", AOS, &bx.glam3, &by.glam3, |x, y| *y + *x * A);
-    batch(&mut g, "glam_vec3a", AOS, &bx.glam3a, &by.glam3a, |x, y| *y + *x * A);
     batch(&mut g, "nalgebra", AOS, &bx.na, &by.na, |x, y| y + x * A);
 
     long_axpy::<U1024>(&mut g, &mut rng, LONG[0].1);
@@ -116,30 +160,65 @@ pub fn dot(c: &mut Criterion) {
     let mut g = config::group(c, "dot");
     let mut rng = Pcg32::new(3);
     let (x, y) = (rng.vec3s(1)[0], rng.vec3s(1)[0]);
-    single(&mut g, "vecexpr", "3", V3::from(x), V3::from(y), |x, y| x.dot(y));
-    single(&mut g, "eager", "3", Eager::<f32, U3>::from_fn(|k| x[k]), Eager::from_fn(|k| y[k]), |x, y| {
+    single(&mut g, "vecexpr", "3", V3::from(x), V3::from(y), |x, y| {
         x.dot(y)
     });
+    single(
+        &mut g,
+        "eager",
+        "3",
+        Eager::<f32, U3>::from_fn(|k| x[k]),
+        Eager::from_fn(|k| y[k]),
+        |x, y| x.dot(y),
+    );
     single(&mut g, "hand", "3", x, y, |x, y| hand::dot3(*x, *y));
-    single(&mut g, "glam_vec3", "3", glam::Vec3::from(x), glam::Vec3::from(y), |x, y| x.dot(*y));
-    single(&mut g, "glam_vec3a", "3", glam::Vec3A::from(x), glam::Vec3A::from(y), |x, y| {
-        x.dot(*y)
-    });
-    single(&mut g, "nalgebra", "3", nalgebra::Vector3::from(x), nalgebra::Vector3::from(y), |x, y| {
-        x.dot(y)
-    });
+    single(
+        &mut g,
+        "glam_vec3",
+        "3",
+        glam::Vec3::from(x),
+        glam::Vec3::from(y),
+        |x, y| x.dot(*y),
+    );
+    single(
+        &mut g,
+        "glam_vec3a",
+        "3",
+        glam::Vec3A::from(x),
+        glam::Vec3A::from(y),
+        |x, y| x.dot(*y),
+    );
+    single(
+        &mut g,
+        "nalgebra",
+        "3",
+        nalgebra::Vector3::from(x),
+        nalgebra::Vector3::from(y),
+        |x, y| x.dot(y),
+    );
 
-    let (bx, by) = (Batch::random(&mut rng, config::BATCH), Batch::random(&mut rng, config::BATCH));
+    let (bx, by) = (
+        Batch::random(&mut rng, config::BATCH),
+        Batch::random(&mut rng, config::BATCH),
+    );
     g.throughput(Throughput::Elements(config::BATCH as u64));
     batch(&mut g, "vecexpr", AOS, &bx.vx, &by.vx, |x, y| x.dot(y));
     batch(&mut g, "eager", AOS, &bx.eager, &by.eager, |x, y| x.dot(y));
-    batch(&mut g, "hand", AOS, &bx.arr, &by.arr, |x, y| hand::dot3(*x, *y));
-    batch(&mut g, "glam_vec3", AOS, &bx.glam3, &by.glam3, |x, y| x.dot(*y));
-    batch(&mut g, "glam_vec3a", AOS, &bx.glam3a, &by.glam3a, |x, y| x.dot(*y));
+    batch(&mut g, "hand", AOS, &bx.arr, &by.arr, |x, y| {
+        hand::dot3(*x, *y)
+    });
+    batch(&mut g, "glam_vec3", AOS, &bx.glam3, &by.glam3, |x, y| {
+        x.dot(*y)
+    });
+    batch(&mut g, "glam_vec3a", AOS, &bx.glam3a, &by.glam3a, |x, y| {
+        x.dot(*y)
+    });
     batch(&mut g, "nalgebra", AOS, &bx.na, &by.na, |x, y| x.dot(y));
     batch(&mut g, "vecexpr", SOA8, &bx.p8, &by.p8, |x, y| x.dot(y));
     batch(&mut g, "eager", SOA8, &bx.e8, &by.e8, |x, y| x.dot(y));
-    batch(&mut g, "ultraviolet", SOA8, &bx.uv, &by.uv, |x, y| x.dot(*y));
+    batch(&mut g, "ultraviolet", SOA8, &bx.uv, &by.uv, |x, y| {
+        x.dot(*y)
+    });
     batch(&mut g, "vecexpr", SOA16, &bx.p16, &by.p16, |x, y| x.dot(y));
 
     long_dot::<U1024>(&mut g, &mut rng, LONG[0].1);
@@ -172,7 +251,10 @@ fn long_dot<N: ArrayLength>(g: &mut BenchmarkGroup<'_, WallTime>, rng: &mut Pcg3
         b.iter(|| hand::dot(black_box(&x), black_box(&y)))
     });
     {
-        let (nx, ny) = (nalgebra::DVector::from_vec(x.clone()), nalgebra::DVector::from_vec(y.clone()));
+        let (nx, ny) = (
+            nalgebra::DVector::from_vec(x.clone()),
+            nalgebra::DVector::from_vec(y.clone()),
+        );
         g.bench_function(id("nalgebra", label), |b| {
             b.iter(|| black_box(&nx).dot(black_box(&ny)))
         });

@@ -64,7 +64,8 @@ impl Batch {
             uv: p8
                 .iter()
                 .map(|p| {
-                    let lanes = |k: usize| f32x8::from(<[f32; 8]>::try_from(p[k].as_slice()).unwrap());
+                    let lanes =
+                        |k: usize| f32x8::from(<[f32; 8]>::try_from(p[k].as_slice()).unwrap());
                     Vec3x8::new(lanes(0), lanes(1), lanes(2))
                 })
                 .collect(),

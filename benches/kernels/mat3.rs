@@ -32,27 +32,61 @@ pub fn bench(c: &mut Criterion) {
     let m_p8 = cols.map(|c| Vector::<P8, U3>::from_fn(|k| P8::splat(c[k])));
     let m_p16 = cols.map(|c| Vector::<P16, U3>::from_fn(|k| P16::splat(c[k])));
     let m_e8 = cols.map(|c| Eager::<P8, U3>::from_fn(|k| P8::splat(c[k])));
-    let col8 = |c: [f32; 3]| Vec3x8::new(f32x8::splat(c[0]), f32x8::splat(c[1]), f32x8::splat(c[2]));
+    let col8 =
+        |c: [f32; 3]| Vec3x8::new(f32x8::splat(c[0]), f32x8::splat(c[1]), f32x8::splat(c[2]));
     let m_uv = Mat3x8::new(col8(cols[0]), col8(cols[1]), col8(cols[2]));
 
-    single(&mut g, "vecexpr", "3", v.vx[0], v.vx[0], |a, _| vx_mul(&m_vx, a));
-    single(&mut g, "eager", "3", v.eager[0], v.eager[0], |a, _| Eager::mat3_mul(&m_eager, a));
-    single(&mut g, "hand", "3", v.arr[0], v.arr[0], |a, _| hand::mat3_mul(&cols, *a));
-    single(&mut g, "glam_vec3", "3", v.glam3[0], v.glam3[0], |a, _| m_glam * *a);
-    single(&mut g, "glam_vec3a", "3", v.glam3a[0], v.glam3a[0], |a, _| m_glam_a * *a);
+    single(&mut g, "vecexpr", "3", v.vx[0], v.vx[0], |a, _| {
+        vx_mul(&m_vx, a)
+    });
+    single(&mut g, "eager", "3", v.eager[0], v.eager[0], |a, _| {
+        Eager::mat3_mul(&m_eager, a)
+    });
+    single(&mut g, "hand", "3", v.arr[0], v.arr[0], |a, _| {
+        hand::mat3_mul(&cols, *a)
+    });
+    single(&mut g, "glam_vec3", "3", v.glam3[0], v.glam3[0], |a, _| {
+        m_glam * *a
+    });
+    single(
+        &mut g,
+        "glam_vec3a",
+        "3",
+        v.glam3a[0],
+        v.glam3a[0],
+        |a, _| m_glam_a * *a,
+    );
     single(&mut g, "nalgebra", "3", v.na[0], v.na[0], |a, _| m_na * a);
 
     g.throughput(Throughput::Elements(config::BATCH as u64));
-    batch(&mut g, "vecexpr", AOS, &v.vx, &v.vx, |a, _| vx_mul(&m_vx, a));
-    batch(&mut g, "eager", AOS, &v.eager, &v.eager, |a, _| Eager::mat3_mul(&m_eager, a));
-    batch(&mut g, "hand", AOS, &v.arr, &v.arr, |a, _| hand::mat3_mul(&cols, *a));
-    batch(&mut g, "glam_vec3", AOS, &v.glam3, &v.glam3, |a, _| m_glam * *a);
-    batch(&mut g, "glam_vec3a", AOS, &v.glam3a, &v.glam3a, |a, _| m_glam_a * *a);
+    batch(&mut g, "vecexpr", AOS, &v.vx, &v.vx, |a, _| {
+        vx_mul(&m_vx, a)
+    });
+    batch(&mut g, "eager", AOS, &v.eager, &v.eager, |a, _| {
+        Eager::mat3_mul(&m_eager, a)
+    });
+    batch(&mut g, "hand", AOS, &v.arr, &v.arr, |a, _| {
+        hand::mat3_mul(&cols, *a)
+    });
+    batch(&mut g, "glam_vec3", AOS, &v.glam3, &v.glam3, |a, _| {
+        m_glam * *a
+    });
+    batch(&mut g, "glam_vec3a", AOS, &v.glam3a, &v.glam3a, |a, _| {
+        m_glam_a * *a
+    });
     batch(&mut g, "nalgebra", AOS, &v.na, &v.na, |a, _| m_na * a);
-    batch(&mut g, "vecexpr", SOA8, &v.p8, &v.p8, |a, _| vx_mul(&m_p8, a));
-    batch(&mut g, "eager", SOA8, &v.e8, &v.e8, |a, _| Eager::mat3_mul(&m_e8, a));
-    soa(&mut g, "hand", SOA8, &v.soa, &v.soa, |a, _| hand::mat3_mul(&cols, a));
+    batch(&mut g, "vecexpr", SOA8, &v.p8, &v.p8, |a, _| {
+        vx_mul(&m_p8, a)
+    });
+    batch(&mut g, "eager", SOA8, &v.e8, &v.e8, |a, _| {
+        Eager::mat3_mul(&m_e8, a)
+    });
+    soa(&mut g, "hand", SOA8, &v.soa, &v.soa, |a, _| {
+        hand::mat3_mul(&cols, a)
+    });
     batch(&mut g, "ultraviolet", SOA8, &v.uv, &v.uv, |a, _| m_uv * *a);
-    batch(&mut g, "vecexpr", SOA16, &v.p16, &v.p16, |a, _| vx_mul(&m_p16, a));
+    batch(&mut g, "vecexpr", SOA16, &v.p16, &v.p16, |a, _| {
+        vx_mul(&m_p16, a)
+    });
     g.finish();
 }

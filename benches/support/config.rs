@@ -15,7 +15,12 @@ pub const SOA8: &str = "soa8x4096";
 pub const SOA16: &str = "soa16x4096";
 
 /// The long-vector lengths and their labels.
-pub const LONG: [(usize, &str); 4] = [(1 << 10, "1K"), (1 << 16, "64K"), (1 << 20, "1M"), (1 << 24, "16M")];
+pub const LONG: [(usize, &str); 4] = [
+    (1 << 10, "1K"),
+    (1 << 16, "64K"),
+    (1 << 20, "1M"),
+    (1 << 24, "16M"),
+];
 
 /// Elements of each array of the bandwidth measurement (128 MiB per array, so copy and
 /// triad touch 256 and 384 MiB, several times the last-level cache).

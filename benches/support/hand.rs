@@ -46,7 +46,10 @@ pub fn dot(x: &[f32], y: &[f32]) -> f32 {
     let mut acc = [0.0f32; LANES];
     let n = x.len().min(y.len());
     let full = n / LANES * LANES;
-    for (cx, cy) in x[..full].chunks_exact(LANES).zip(y[..full].chunks_exact(LANES)) {
+    for (cx, cy) in x[..full]
+        .chunks_exact(LANES)
+        .zip(y[..full].chunks_exact(LANES))
+    {
         for j in 0..LANES {
             acc[j] += cx[j] * cy[j];
         }
@@ -96,8 +99,16 @@ pub fn refract3(i: [f32; 3], n: [f32; 3], eta: f32) -> [f32; 3] {
     let k = 1.0 - eta * eta * (1.0 - ni * ni);
     let ok = k >= 0.0;
     let a = if ok { eta } else { 0.0 };
-    let b = if ok { eta * ni + k.max(0.0).sqrt() } else { 0.0 };
-    [i[0] * a - n[0] * b, i[1] * a - n[1] * b, i[2] * a - n[2] * b]
+    let b = if ok {
+        eta * ni + k.max(0.0).sqrt()
+    } else {
+        0.0
+    };
+    [
+        i[0] * a - n[0] * b,
+        i[1] * a - n[1] * b,
+        i[2] * a - n[2] * b,
+    ]
 }
 
 /// Column-major 3×3 matrix times vector.
@@ -125,17 +136,27 @@ mod tests {
         assert_eq!(sum(&x), 666.0);
         let mut out = vec![0.0; 37];
         abcde(&x, &y, &y, &x, &x, &mut out);
-        assert!(out.iter().zip(&x).zip(&y).all(|((o, a), b)| *o == 2.0 * a * b - a));
+        assert!(out
+            .iter()
+            .zip(&x)
+            .zip(&y)
+            .all(|((o, a), b)| *o == 2.0 * a * b - a));
         let mut z = y.clone();
         axpy(2.0, &x, &mut z);
         assert_eq!(z[5], 2.0 * 5.0 + 2.0);
         assert_eq!(reflect3([1.0, -1.0, 0.0], [0.0, 1.0, 0.0]), [1.0, 1.0, 0.0]);
         assert_eq!(cross3([1.0, 0.0, 0.0], [0.0, 1.0, 0.0]), [0.0, 0.0, 1.0]);
         assert_eq!(normalize3([3.0, 0.0, 4.0]), [0.6, 0.0, 0.8]);
-        assert_eq!(refract3([0.0, -1.0, 0.0], [0.0, 1.0, 0.0], 1.5), [0.0, -1.0, 0.0]);
+        assert_eq!(
+            refract3([0.0, -1.0, 0.0], [0.0, 1.0, 0.0], 1.5),
+            [0.0, -1.0, 0.0]
+        );
         assert_eq!(refract3([0.8, -0.6, 0.0], [0.0, 1.0, 0.0], 1.5), [0.0; 3]);
         let cols = [[1.0, 2.0, 3.0], [4.0, 5.0, 6.0], [7.0, 8.0, 9.0]];
         assert_eq!(mat3_mul(&cols, [1.0, 1.0, 1.0]), [12.0, 15.0, 18.0]);
-        assert_eq!(abcde3([1.0; 3], [2.0; 3], [3.0; 3], [4.0; 3], [5.0; 3]), [9.0; 3]);
+        assert_eq!(
+            abcde3([1.0; 3], [2.0; 3], [3.0; 3], [4.0; 3], [5.0; 3]),
+            [9.0; 3]
+        );
     }
 }

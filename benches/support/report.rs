@@ -47,5 +47,9 @@ fn main() {
     );
     std::fs::write(out.join("tables.md"), md).expect("write tables.md");
     std::fs::write(out.join("speedup.svg"), speedup_svg(&runs)).expect("write speedup.svg");
-    eprintln!("wrote {} and {}", out.join("tables.md").display(), out.join("speedup.svg").display());
+    eprintln!(
+        "wrote {} and {}",
+        out.join("tables.md").display(),
+        out.join("speedup.svg").display()
+    );
 }

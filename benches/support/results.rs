@@ -125,7 +125,15 @@ pub const IMPLEMENTATIONS: [&str; 10] = [
 
 /// Order of the size labels.
 pub const SIZES: [&str; 9] = [
-    "3", "4", "aos4096", "soa8x4096", "soa16x4096", "1K", "64K", "1M", "16M",
+    "3",
+    "4",
+    "aos4096",
+    "soa8x4096",
+    "soa16x4096",
+    "1K",
+    "64K",
+    "1M",
+    "16M",
 ];
 
 /// Bytes moved per element by the long-vector kernels (STREAM convention: loads plus
@@ -181,8 +189,11 @@ pub fn tables(runs: &[Run]) -> String {
             .iter()
             .copied()
             .filter(|i| {
-                runs.iter()
-                    .any(|r| r.data.iter().any(|m| m.group == group && m.implementation == *i))
+                runs.iter().any(|r| {
+                    r.data
+                        .iter()
+                        .any(|m| m.group == group && m.implementation == *i)
+                })
             })
             .collect();
         writeln!(s, "\n#### `{group}`\n").unwrap();
@@ -219,7 +230,14 @@ pub fn long_table(runs: &[Run]) -> String {
     writeln!(s, "|---|---:|---:|").unwrap();
     for r in runs {
         let f = |x: Option<f64>| x.map(|v| format!("{v:.1}")).unwrap_or_default();
-        writeln!(s, "| {} | {} | {} |", r.target, f(r.copy_gbs()), f(r.triad_gbs())).unwrap();
+        writeln!(
+            s,
+            "| {} | {} | {} |",
+            r.target,
+            f(r.copy_gbs()),
+            f(r.triad_gbs())
+        )
+        .unwrap();
     }
     writeln!(
         s,
@@ -231,7 +249,8 @@ pub fn long_table(runs: &[Run]) -> String {
         for (n, size) in crate::config::LONG {
             for r in runs {
                 let per = |i: &str| r.median(group, i, size).map(|t| t / n as f64);
-                let (Some(v), Some(h), Some(e)) = (per("vecexpr"), per("hand"), per("eager")) else {
+                let (Some(v), Some(h), Some(e)) = (per("vecexpr"), per("hand"), per("eager"))
+                else {
                     continue;
                 };
                 let gbs = bytes_per_element(group).unwrap() / v;
@@ -263,8 +282,10 @@ pub fn targets(runs: &[Run]) -> String {
     for r in runs {
         let t = &r.target;
         for size in SIZES {
-            let (Some(v), Some(h)) = (r.median("abcde", "vecexpr", size), r.median("abcde", "hand", size))
-            else {
+            let (Some(v), Some(h)) = (
+                r.median("abcde", "vecexpr", size),
+                r.median("abcde", "hand", size),
+            ) else {
                 continue;
             };
             writeln!(
@@ -276,8 +297,10 @@ pub fn targets(runs: &[Run]) -> String {
             .unwrap();
         }
         for (_, size) in crate::config::LONG {
-            let (Some(v), Some(e)) = (r.median("abcde", "vecexpr", size), r.median("abcde", "eager", size))
-            else {
+            let (Some(v), Some(e)) = (
+                r.median("abcde", "vecexpr", size),
+                r.median("abcde", "eager", size),
+            ) else {
                 continue;
             };
             writeln!(
@@ -384,13 +407,34 @@ pub fn speedup_svg(runs: &[Run]) -> String {
     // Axes and grid.
     for k in 0..=(ymax as usize) {
         let y = py(k as f64);
-        writeln!(s, "<line x1=\"{left}\" y1=\"{y}\" x2=\"{}\" y2=\"{y}\" stroke=\"#ddd\"/>", left + pw).unwrap();
-        writeln!(s, "<text x=\"{}\" y=\"{}\" text-anchor=\"end\">{k}x</text>", left - 6.0, y + 4.0).unwrap();
+        writeln!(
+            s,
+            "<line x1=\"{left}\" y1=\"{y}\" x2=\"{}\" y2=\"{y}\" stroke=\"#ddd\"/>",
+            left + pw
+        )
+        .unwrap();
+        writeln!(
+            s,
+            "<text x=\"{}\" y=\"{}\" text-anchor=\"end\">{k}x</text>",
+            left - 6.0,
+            y + 4.0
+        )
+        .unwrap();
     }
     for (n, label) in crate::config::LONG {
         let x = px((n as f64).log2());
-        writeln!(s, "<line x1=\"{x}\" y1=\"{top}\" x2=\"{x}\" y2=\"{}\" stroke=\"#ddd\"/>", top + ph).unwrap();
-        writeln!(s, "<text x=\"{x}\" y=\"{}\" text-anchor=\"middle\">{label}</text>", top + ph + 18.0).unwrap();
+        writeln!(
+            s,
+            "<line x1=\"{x}\" y1=\"{top}\" x2=\"{x}\" y2=\"{}\" stroke=\"#ddd\"/>",
+            top + ph
+        )
+        .unwrap();
+        writeln!(
+            s,
+            "<text x=\"{x}\" y=\"{}\" text-anchor=\"middle\">{label}</text>",
+            top + ph + 18.0
+        )
+        .unwrap();
     }
     writeln!(
         s,
@@ -416,7 +460,10 @@ pub fn speedup_svg(runs: &[Run]) -> String {
             _ => colors[2],
         };
         let dash = dashes[k % runs.len().max(1) % dashes.len()];
-        let path: Vec<String> = pts.iter().map(|(x, y)| format!("{:.1},{:.1}", px(*x), py(*y))).collect();
+        let path: Vec<String> = pts
+            .iter()
+            .map(|(x, y)| format!("{:.1},{:.1}", px(*x), py(*y)))
+            .collect();
         writeln!(
             s,
             "<polyline fill=\"none\" stroke=\"{color}\" stroke-width=\"2\" stroke-dasharray=\"{dash}\" points=\"{}\"/>",
@@ -424,7 +471,13 @@ pub fn speedup_svg(runs: &[Run]) -> String {
         )
         .unwrap();
         for (x, y) in pts {
-            writeln!(s, "<circle cx=\"{:.1}\" cy=\"{:.1}\" r=\"3\" fill=\"{color}\"/>", px(*x), py(*y)).unwrap();
+            writeln!(
+                s,
+                "<circle cx=\"{:.1}\" cy=\"{:.1}\" r=\"3\" fill=\"{color}\"/>",
+                px(*x),
+                py(*y)
+            )
+            .unwrap();
         }
         let ly = top + 14.0 + 18.0 * k as f64;
         let lx = left + pw + 14.0;
@@ -456,7 +509,8 @@ mod tests {
 
     #[test]
     fn parses_criterion_json() {
-        let b = r#"{"group_id":"abcde","function_id":"vecexpr","value_str":"1K","throughput":null}"#;
+        let b =
+            r#"{"group_id":"abcde","function_id":"vecexpr","value_str":"1K","throughput":null}"#;
         let e = r#"{"mean":{"point_estimate":2.0},"median":{"point_estimate":1.5}}"#;
         assert_eq!(parse(b, e).unwrap(), m("abcde", "vecexpr", "1K", 1.5));
         assert!(parse("{}", e).is_err());
@@ -475,7 +529,10 @@ mod tests {
         };
         assert!((run.triad_gbs().unwrap() - 10.0).abs() < 1e-9);
         let t = tables(std::slice::from_ref(&run));
-        assert!(t.contains("| 16M | x86-64 | 40.0 ms | 120 ms (3.00) | 40.0 ms (1.00) |"), "{t}");
+        assert!(
+            t.contains("| 16M | x86-64 | 40.0 ms | 120 ms (3.00) | 40.0 ms (1.00) |"),
+            "{t}"
+        );
         let v = targets(std::slice::from_ref(&run));
         assert!(v.contains("vecexpr / hand = 1.000 | met"), "{v}");
         assert!(v.contains("eager / vecexpr = 3.00 | met"), "{v}");

@@ -126,10 +126,12 @@ fn main() -> ExitCode {
 }
 
 fn load(args: &RenderArgs) -> Result<SceneDesc, String> {
-    let is_obj = args
+    let name = args
         .scene
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("obj"));
+        .file_name()
+        .map(|n| n.to_string_lossy().to_ascii_lowercase())
+        .unwrap_or_default();
+    let is_obj = name.ends_with(".obj") || name.ends_with(".obj.gz");
     if is_obj {
         let opts = scene::ObjOptions {
             from: args.from,

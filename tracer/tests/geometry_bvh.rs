@@ -12,7 +12,9 @@ struct Pcg(u64);
 impl Pcg {
     fn next_u32(&mut self) -> u32 {
         let old = self.0;
-        self.0 = old.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+        self.0 = old
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
         let x = (((old >> 18) ^ old) >> 27) as u32;
         x.rotate_right((old >> 59) as u32)
     }
@@ -49,7 +51,8 @@ fn random_scene(rng: &mut Pcg, n: usize, kinds: &[u32]) -> Vec<ShapeDesc> {
         .map(|i| {
             let c = rng.point(-10.0, 10.0);
             let size = 0.05 + 1.5 * rng.f() * rng.f();
-            let near = |rng: &mut Pcg| -> P3 { core::array::from_fn(|k| c[k] + rng.range(-size, size)) };
+            let near =
+                |rng: &mut Pcg| -> P3 { core::array::from_fn(|k| c[k] + rng.range(-size, size)) };
             let m = i as u32 % 5;
             match kinds[i % kinds.len()] {
                 0 => desc(
@@ -69,7 +72,14 @@ fn random_scene(rng: &mut Pcg, n: usize, kinds: &[u32]) -> Vec<ShapeDesc> {
                 2 => {
                     // A planar concave "L" with a random frame.
                     let (u, w) = (rng.dir(), rng.dir());
-                    let pts = [(0.0, 0.0), (2.0, 0.0), (2.0, 1.0), (1.0, 1.0), (1.0, 2.0), (0.0, 2.0)];
+                    let pts = [
+                        (0.0, 0.0),
+                        (2.0, 0.0),
+                        (2.0, 1.0),
+                        (1.0, 1.0),
+                        (1.0, 2.0),
+                        (0.0, 2.0),
+                    ];
                     let vertices = pts
                         .iter()
                         .map(|(a, b)| core::array::from_fn(|k| c[k] + size * (a * u[k] + b * w[k])))
@@ -112,7 +122,10 @@ fn random_rays<T: Real>(rng: &mut Pcg, n: usize) -> Vec<Ray<T>> {
             } else {
                 (rng.point(-10.0, 10.0), rng.dir())
             };
-            let mut r = Ray::new(vec3(c(o[0]), c(o[1]), c(o[2])), vec3(c(d[0]), c(d[1]), c(d[2])));
+            let mut r = Ray::new(
+                vec3(c(o[0]), c(o[1]), c(o[2])),
+                vec3(c(d[0]), c(d[1]), c(d[2])),
+            );
             if i % 3 == 0 {
                 r.t_max = c(rng.range(0.0, 20.0));
             }
@@ -134,7 +147,13 @@ fn compare<T: Real>(shapes: &[ShapeDesc], rays: &[Ray<T>], configs: &[AccelOptio
         if configs.is_empty() {
             continue;
         }
-        let brute = Geometry::<T>::build(shapes, &AccelOptions { use_bvh: false, ..*configs[0] });
+        let brute = Geometry::<T>::build(
+            shapes,
+            &AccelOptions {
+                use_bvh: false,
+                ..*configs[0]
+            },
+        );
         assert_eq!(brute.stats().bvh_nodes, 0);
         let expected: Vec<_> = rays.iter().map(|r| brute.intersect(r)).collect();
         for (r, e) in rays.iter().zip(&expected) {
@@ -149,7 +168,13 @@ fn compare<T: Real>(shapes: &[ShapeDesc], rays: &[Ray<T>], configs: &[AccelOptio
                 match (&a, b) {
                     (None, None) => {}
                     (Some(a), Some(b)) => {
-                        assert_eq!(a.t.to_bits(), b.t.to_bits(), "ray {i}: t {} vs {}", a.t, b.t);
+                        assert_eq!(
+                            a.t.to_bits(),
+                            b.t.to_bits(),
+                            "ray {i}: t {} vs {}",
+                            a.t,
+                            b.t
+                        );
                         assert_eq!(a.prim_id, b.prim_id, "ray {i}");
                         assert_eq!(a.material, b.material, "ray {i}");
                         assert_eq!(a.point, b.point, "ray {i}");
@@ -198,7 +223,10 @@ macro_rules! bvh_tests {
                 let hits = compare(
                     &shapes,
                     &rays,
-                    &[opts(TriangleTest::Watertight, 4), opts(TriangleTest::MollerTrumbore, 4)],
+                    &[
+                        opts(TriangleTest::Watertight, 4),
+                        opts(TriangleTest::MollerTrumbore, 4),
+                    ],
                 );
                 assert!(hits > 500, "{hits} hits");
             }
@@ -258,21 +286,43 @@ macro_rules! bvh_tests {
                         let (x, y) = (f64::from(i) * 2.0, f64::from(j) * 2.0);
                         shapes.push(desc(
                             Shape::Polygon {
-                                vertices: vec![[x, y, 0.0], [x + 1.0, y, 0.0], [x + 1.0, y + 1.0, 0.0], [x, y + 1.0, 0.0]],
+                                vertices: vec![
+                                    [x, y, 0.0],
+                                    [x + 1.0, y, 0.0],
+                                    [x + 1.0, y + 1.0, 0.0],
+                                    [x, y + 1.0, 0.0],
+                                ],
                             },
                             0,
                         ));
                     }
                 }
                 let bvh = Geometry::<T>::build(&shapes, &AccelOptions::default());
-                let brute = Geometry::<T>::build(&shapes, &AccelOptions { use_bvh: false, ..AccelOptions::default() });
+                let brute = Geometry::<T>::build(
+                    &shapes,
+                    &AccelOptions {
+                        use_bvh: false,
+                        ..AccelOptions::default()
+                    },
+                );
                 for i in 0..=24 {
                     for j in 0..=24 {
-                        let (x, y) = (<T as Real>::from_f64(f64::from(i) * 0.5), <T as Real>::from_f64(f64::from(j) * 0.5));
-                        for d in [vec3(0.0, 0.0, -1.0), vec3(-0.0, 0.0, -1.0), vec3(0.0, 1.0, -1.0)] {
+                        let (x, y) = (
+                            <T as Real>::from_f64(f64::from(i) * 0.5),
+                            <T as Real>::from_f64(f64::from(j) * 0.5),
+                        );
+                        for d in [
+                            vec3(0.0, 0.0, -1.0),
+                            vec3(-0.0, 0.0, -1.0),
+                            vec3(0.0, 1.0, -1.0),
+                        ] {
                             let r = Ray::new(vec3(x, y, 1.0), d);
                             let (a, b) = (bvh.intersect(&r), brute.intersect(&r));
-                            assert_eq!(a.map(|h| (h.t, h.prim_id)), b.map(|h| (h.t, h.prim_id)), "{r:?}");
+                            assert_eq!(
+                                a.map(|h| (h.t, h.prim_id)),
+                                b.map(|h| (h.t, h.prim_id)),
+                                "{r:?}"
+                            );
                         }
                     }
                 }
@@ -289,11 +339,23 @@ fn parallel_build_is_deterministic() {
     let mut rng = Pcg(5);
     let shapes = random_scene(&mut rng, 30_000, &[0, 1, 0, 4]);
     let opts = AccelOptions::default();
-    let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
-    let four = rayon::ThreadPoolBuilder::new().num_threads(4).build().unwrap();
+    let one = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap();
+    let four = rayon::ThreadPoolBuilder::new()
+        .num_threads(4)
+        .build()
+        .unwrap();
     let a = one.install(|| Geometry::<f32>::build(&shapes, &opts));
     let b = four.install(|| Geometry::<f32>::build(&shapes, &opts));
-    let c = Geometry::<f32>::build(&shapes, &AccelOptions { parallel_build: false, ..opts });
+    let c = Geometry::<f32>::build(
+        &shapes,
+        &AccelOptions {
+            parallel_build: false,
+            ..opts
+        },
+    );
     assert_eq!(a.bvh(), b.bvh());
     assert_eq!(a.bvh(), c.bvh());
     let rays = random_rays::<f32>(&mut rng, 2_000);

@@ -29,7 +29,11 @@ fn polygon(vertices: Vec<P3>) -> ShapeDesc {
 }
 
 fn v<T: Real>(x: f64, y: f64, z: f64) -> Vec3<T> {
-    vec3(<T as Real>::from_f64(x), <T as Real>::from_f64(y), <T as Real>::from_f64(z))
+    vec3(
+        <T as Real>::from_f64(x),
+        <T as Real>::from_f64(y),
+        <T as Real>::from_f64(z),
+    )
 }
 
 fn ray<T: Real>(o: [f64; 3], d: [f64; 3]) -> Ray<T> {
@@ -46,7 +50,11 @@ fn close_v<T: Real>(a: &Vec3<T>, b: [f64; 3], tol: f64) -> bool {
 
 /// Checks the invariants every hit must satisfy.
 fn sane<T: Real>(h: &Hit<T>, r: &Ray<T>) {
-    assert!(h.t.is_finite() && h.t > r.t_min && h.t < r.t_max, "t = {}", h.t);
+    assert!(
+        h.t.is_finite() && h.t > r.t_min && h.t < r.t_max,
+        "t = {}",
+        h.t
+    );
     for n in [&h.geometric_normal, &h.shading_normal] {
         assert!((n.length().to_f64() - 1.0).abs() < 1e-5, "normal {n:?}");
     }
@@ -83,10 +91,19 @@ macro_rules! precision_tests {
             fn both(shapes: &[ShapeDesc]) -> [Geometry<T>; 3] {
                 [
                     build(shapes),
-                    Geometry::build(shapes, &AccelOptions { use_bvh: false, ..AccelOptions::default() }),
                     Geometry::build(
                         shapes,
-                        &AccelOptions { triangle: TriangleTest::MollerTrumbore, ..AccelOptions::default() },
+                        &AccelOptions {
+                            use_bvh: false,
+                            ..AccelOptions::default()
+                        },
+                    ),
+                    Geometry::build(
+                        shapes,
+                        &AccelOptions {
+                            triangle: TriangleTest::MollerTrumbore,
+                            ..AccelOptions::default()
+                        },
                     ),
                 ]
             }
@@ -113,7 +130,11 @@ macro_rules! precision_tests {
             #[test]
             fn sphere_from_inside_and_inside_visible() {
                 let mut inside = sphere([0.0; 3], 1.0);
-                inside.shape = Shape::Sphere { center: [0.0; 3], radius: 1.0, inside_visible: true };
+                inside.shape = Shape::Sphere {
+                    center: [0.0; 3],
+                    radius: 1.0,
+                    inside_visible: true,
+                };
                 for g in both(&[sphere([0.0, 0.0, 0.0], 2.0)]) {
                     let r = ray::<T>([0.0, 0.0, 0.5], [0.0, 0.0, 1.0]);
                     let h = g.intersect(&r).expect("inside hit");
@@ -176,7 +197,7 @@ macro_rules! precision_tests {
                     },
                     3,
                 );
-                for g in both(&[cyl.clone()]) {
+                for g in both(std::slice::from_ref(&cyl)) {
                     let r = ray::<T>([0.0, 1.0, 10.0], [0.0, 0.0, -1.0]);
                     let h = g.intersect(&r).expect("hit");
                     sane(&h, &r);
@@ -189,8 +210,12 @@ macro_rules! precision_tests {
                     assert!(close(h.t, 9.2, TOL));
                     assert!(close_v(&h.geometric_normal, [0.6, 0.0, 0.8], TOL * 10.0));
                     // Beyond the ends: no caps, no hit; looking down the axis: no hit.
-                    assert!(g.intersect(&ray::<T>([0.0, 4.5, 10.0], [0.0, 0.0, -1.0])).is_none());
-                    assert!(g.intersect(&ray::<T>([0.0, -1.0, 0.0], [0.0, 1.0, 0.0])).is_none());
+                    assert!(g
+                        .intersect(&ray::<T>([0.0, 4.5, 10.0], [0.0, 0.0, -1.0]))
+                        .is_none());
+                    assert!(g
+                        .intersect(&ray::<T>([0.0, -1.0, 0.0], [0.0, 1.0, 0.0]))
+                        .is_none());
                     // Through the open end, slanting onto the inside of the wall.
                     let r = ray::<T>([0.0, 6.0, 0.0], [0.25, -1.0, 0.0]);
                     let h = g.intersect(&r).expect("inner wall");
@@ -205,7 +230,9 @@ macro_rules! precision_tests {
                     apex_radius: 1.0,
                     inside_visible: true,
                 };
-                let h = build(&[inv]).intersect(&ray::<T>([0.0, 1.0, 10.0], [0.0, 0.0, -1.0])).unwrap();
+                let h = build(&[inv])
+                    .intersect(&ray::<T>([0.0, 1.0, 10.0], [0.0, 0.0, -1.0]))
+                    .unwrap();
                 assert!(close_v(&h.geometric_normal, [0.0, 0.0, -1.0], TOL));
             }
 
@@ -222,7 +249,7 @@ macro_rules! precision_tests {
                     },
                     0,
                 );
-                for g in both(&[cone.clone()]) {
+                for g in both(std::slice::from_ref(&cone)) {
                     let r = ray::<T>([10.0, 1.0, 0.0], [-1.0, 0.0, 0.0]);
                     let h = g.intersect(&r).expect("hit");
                     sane(&h, &r);
@@ -232,8 +259,12 @@ macro_rules! precision_tests {
                     let s = 1.0 / 1.25f64.sqrt();
                     assert!(close_v(&h.geometric_normal, [s, 0.5 * s, 0.0], TOL * 10.0));
                     // Just above the top at radius 1: miss; straight down inside: miss.
-                    assert!(g.intersect(&ray::<T>([10.0, 2.1, 0.0], [-1.0, 0.0, 0.0])).is_none());
-                    assert!(g.intersect(&ray::<T>([0.0, 5.0, 0.0], [0.0, -1.0, 0.0])).is_none());
+                    assert!(g
+                        .intersect(&ray::<T>([10.0, 2.1, 0.0], [-1.0, 0.0, 0.0]))
+                        .is_none());
+                    assert!(g
+                        .intersect(&ray::<T>([0.0, 5.0, 0.0], [0.0, -1.0, 0.0]))
+                        .is_none());
                 }
                 // A pointed cone (apex radius 0): the tip region never yields NaN.
                 let tip = shape(
@@ -280,10 +311,18 @@ macro_rules! precision_tests {
                         a.map(|x| x / l)
                     };
                     let (n0, n1, n2) = (unit(n[0]), unit(n[1]), unit(n[2]));
-                    let s = unit(core::array::from_fn(|i| 0.25 * n0[i] + 0.25 * n1[i] + 0.5 * n2[i]));
-                    assert!(close_v(&h.shading_normal, s, TOL * 10.0), "{:?}", h.shading_normal);
+                    let s = unit(core::array::from_fn(|i| {
+                        0.25 * n0[i] + 0.25 * n1[i] + 0.5 * n2[i]
+                    }));
+                    assert!(
+                        close_v(&h.shading_normal, s, TOL * 10.0),
+                        "{:?}",
+                        h.shading_normal
+                    );
                     // From below: same normals, they are not flipped toward the ray.
-                    let h = g.intersect(&ray::<T>([1.0, 2.0, -3.0], [0.0, 0.0, 1.0])).expect("back");
+                    let h = g
+                        .intersect(&ray::<T>([1.0, 2.0, -3.0], [0.0, 0.0, 1.0]))
+                        .expect("back");
                     assert!(close_v(&h.geometric_normal, [0.0, 0.0, 1.0], TOL));
                 }
             }
@@ -291,8 +330,20 @@ macro_rules! precision_tests {
             #[test]
             fn patch_normals_degenerate_or_flipped() {
                 let verts = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
-                let zero = shape(Shape::Patch { vertices: verts.clone(), normals: vec![[0.0; 3]; 3] }, 0);
-                let nan = shape(Shape::Patch { vertices: verts.clone(), normals: vec![[f64::NAN; 3]; 3] }, 0);
+                let zero = shape(
+                    Shape::Patch {
+                        vertices: verts.clone(),
+                        normals: vec![[0.0; 3]; 3],
+                    },
+                    0,
+                );
+                let nan = shape(
+                    Shape::Patch {
+                        vertices: verts.clone(),
+                        normals: vec![[f64::NAN; 3]; 3],
+                    },
+                    0,
+                );
                 let cancel = shape(
                     Shape::Patch {
                         vertices: verts.clone(),
@@ -300,7 +351,13 @@ macro_rules! precision_tests {
                     },
                     0,
                 );
-                let down = shape(Shape::Patch { vertices: verts, normals: vec![[0.0, 0.0, -1.0]; 3] }, 0);
+                let down = shape(
+                    Shape::Patch {
+                        vertices: verts,
+                        normals: vec![[0.0, 0.0, -1.0]; 3],
+                    },
+                    0,
+                );
                 let r = ray::<T>([0.25, 0.25, 1.0], [0.0, 0.0, -1.0]);
                 for s in [zero, nan, down] {
                     let h = build(&[s]).intersect(&r).expect("hit");
@@ -309,7 +366,8 @@ macro_rules! precision_tests {
                 }
                 // Interpolation (0.5, 0, 0) + ... lands in the plane: still unit and in
                 // the geometric hemisphere.
-                let h = build(&[cancel]).intersect(&ray::<T>([0.5, 0.0 + 0.25, 1.0], [0.0, 0.0, -1.0]));
+                let h =
+                    build(&[cancel]).intersect(&ray::<T>([0.5, 0.0 + 0.25, 1.0], [0.0, 0.0, -1.0]));
                 sane(&h.expect("hit"), &r);
             }
 
@@ -324,14 +382,19 @@ macro_rules! precision_tests {
                     assert_eq!(g.stats().triangles, 142);
                     for i in 0..36 {
                         let a = i as f64 * step;
-                        let at = |phi: f64, r: f64| ray::<T>([r * phi.cos(), r * phi.sin(), 1.0], [0.0, 0.0, -1.0]);
+                        let at = |phi: f64, r: f64| {
+                            ray::<T>([r * phi.cos(), r * phi.sin(), 1.0], [0.0, 0.0, -1.0])
+                        };
                         // Through a tooth: hit, reporting the polygon's index.
                         let h = g.intersect(&at(a + 0.375 * step, 0.9)).expect("tooth");
                         assert_eq!(h.prim_id, 1);
                         assert!(close(h.t, 1.0, TOL));
                         assert!(close_v(&h.geometric_normal, [0.0, 0.0, 1.0], TOL));
                         // Through the notch between teeth: miss.
-                        assert!(g.intersect(&at(a + 0.875 * step, 0.9)).is_none(), "notch {i}");
+                        assert!(
+                            g.intersect(&at(a + 0.875 * step, 0.9)).is_none(),
+                            "notch {i}"
+                        );
                         assert!(!g.occluded(&at(a + 0.875 * step, 0.9)));
                         // Through the body: hit.
                         assert!(g.intersect(&at(a + 0.6 * step, 0.5)).is_some());
@@ -344,8 +407,15 @@ macro_rules! precision_tests {
 
             #[test]
             fn polygon_winding_sets_normal() {
-                let cw = polygon(vec![[0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 1.0, 0.0], [1.0, 0.0, 0.0]]);
-                let h = build(&[cw]).intersect(&ray::<T>([0.5, 0.5, 1.0], [0.0, 0.0, -1.0])).unwrap();
+                let cw = polygon(vec![
+                    [0.0, 0.0, 0.0],
+                    [0.0, 1.0, 0.0],
+                    [1.0, 1.0, 0.0],
+                    [1.0, 0.0, 0.0],
+                ]);
+                let h = build(&[cw])
+                    .intersect(&ray::<T>([0.5, 0.5, 1.0], [0.0, 0.0, -1.0]))
+                    .unwrap();
                 assert!(close_v(&h.geometric_normal, [0.0, 0.0, -1.0], TOL));
                 assert!(close_v(&h.shading_normal, [0.0, 0.0, -1.0], TOL));
             }
@@ -369,14 +439,22 @@ macro_rules! precision_tests {
                         },
                         0,
                     ),
-                    shape(Shape::Patch { vertices: vec![[0.0; 3]; 3], normals: vec![[0.0, 0.0, 1.0]; 3] }, 0),
+                    shape(
+                        Shape::Patch {
+                            vertices: vec![[0.0; 3]; 3],
+                            normals: vec![[0.0, 0.0, 1.0]; 3],
+                        },
+                        0,
+                    ),
                     sphere([5.0, 0.0, 0.0], 1.0),
                 ];
                 for g in both(&shapes) {
                     assert_eq!(g.stats().skipped, 8);
                     assert_eq!(g.stats().spheres, 1);
                     assert_eq!(g.stats().triangles + g.stats().cones, 0);
-                    let h = g.intersect(&ray::<T>([5.0, 0.0, 5.0], [0.0, 0.0, -1.0])).unwrap();
+                    let h = g
+                        .intersect(&ray::<T>([5.0, 0.0, 5.0], [0.0, 0.0, -1.0]))
+                        .unwrap();
                     assert_eq!(h.prim_id, 8);
                     for d in [[-1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, -1.0]] {
                         assert!(g.intersect(&ray::<T>([0.0, 0.0, 0.0], d)).is_none());
@@ -386,7 +464,14 @@ macro_rules! precision_tests {
 
             #[test]
             fn invalid_rays_hit_nothing() {
-                let g = build(&[sphere([0.0, 0.0, 0.0], 1.0), polygon(vec![[-5.0, -5.0, -2.0], [5.0, -5.0, -2.0], [0.0, 5.0, -2.0]])]);
+                let g = build(&[
+                    sphere([0.0, 0.0, 0.0], 1.0),
+                    polygon(vec![
+                        [-5.0, -5.0, -2.0],
+                        [5.0, -5.0, -2.0],
+                        [0.0, 5.0, -2.0],
+                    ]),
+                ]);
                 let nan = T::NAN;
                 let inf = T::INFINITY;
                 let o = v::<T>(0.0, 0.0, 5.0);
@@ -397,9 +482,19 @@ macro_rules! precision_tests {
                     Ray::new(vec3(inf, 0.0, 5.0), d),
                     Ray::new(o, vec3(0.0, 0.0, -inf)),
                     Ray::new(o, vec3(0.0, 0.0, 0.0)),
-                    Ray { t_min: nan, ..Ray::new(o, d) },
-                    Ray { t_max: nan, ..Ray::new(o, d) },
-                    Ray { t_min: 3.0, t_max: 2.0, ..Ray::new(o, d) },
+                    Ray {
+                        t_min: nan,
+                        ..Ray::new(o, d)
+                    },
+                    Ray {
+                        t_max: nan,
+                        ..Ray::new(o, d)
+                    },
+                    Ray {
+                        t_min: 3.0,
+                        t_max: 2.0,
+                        ..Ray::new(o, d)
+                    },
                 ];
                 for r in &bad {
                     assert!(g.intersect(r).is_none(), "{r:?}");
@@ -411,7 +506,14 @@ macro_rules! precision_tests {
             #[test]
             fn ties_go_to_the_first_primitive() {
                 // Three identical spheres and two coincident quads.
-                let quad = || polygon(vec![[-1.0, -1.0, -3.0], [1.0, -1.0, -3.0], [1.0, 1.0, -3.0], [-1.0, 1.0, -3.0]]);
+                let quad = || {
+                    polygon(vec![
+                        [-1.0, -1.0, -3.0],
+                        [1.0, -1.0, -3.0],
+                        [1.0, 1.0, -3.0],
+                        [-1.0, 1.0, -3.0],
+                    ])
+                };
                 let shapes = [
                     quad(),
                     sphere([0.0, 0.0, 0.0], 1.0),
@@ -420,9 +522,13 @@ macro_rules! precision_tests {
                     sphere([0.0, 0.0, 0.0], 1.0),
                 ];
                 for g in both(&shapes) {
-                    let h = g.intersect(&ray::<T>([0.1, 0.2, 5.0], [0.0, 0.0, -1.0])).unwrap();
+                    let h = g
+                        .intersect(&ray::<T>([0.1, 0.2, 5.0], [0.0, 0.0, -1.0]))
+                        .unwrap();
                     assert_eq!(h.prim_id, 1);
-                    let h = g.intersect(&ray::<T>([0.9, 0.9, 5.0], [0.0, 0.0, -1.0])).unwrap();
+                    let h = g
+                        .intersect(&ray::<T>([0.9, 0.9, 5.0], [0.0, 0.0, -1.0]))
+                        .unwrap();
                     assert_eq!(h.prim_id, 0);
                 }
             }
@@ -440,26 +546,46 @@ macro_rules! precision_tests {
                     .add_mesh(&positions, &[[0, 1, 2], [0, 2, 3], [0, 9, 1]], None, 2)
                     .add_plane(v(0.0, 0.0, -5.0), v(0.0, 0.0, 3.0), 4)
                     .add_cone(v(5.0, 0.0, 0.0), 1.0, v(5.0, 0.0, 2.0), 0.5, 1)
-                    .add_polygon(&[v(-3.0, 0.0, 1.0), v(-2.0, 0.0, 1.0), v(-2.0, 1.0, 1.0)], 5)
+                    .add_polygon(
+                        &[v(-3.0, 0.0, 1.0), v(-2.0, 0.0, 1.0), v(-2.0, 1.0, 1.0)],
+                        5,
+                    )
                     .build(&AccelOptions::default());
                 let s = g.stats();
-                assert_eq!((s.spheres, s.triangles, s.planes, s.cones, s.skipped), (1, 3, 1, 1, 1));
-                let h = g.intersect(&ray::<T>([0.0, 0.0, 20.0], [0.0, 0.0, -1.0])).unwrap();
+                assert_eq!(
+                    (s.spheres, s.triangles, s.planes, s.cones, s.skipped),
+                    (1, 3, 1, 1, 1)
+                );
+                let h = g
+                    .intersect(&ray::<T>([0.0, 0.0, 20.0], [0.0, 0.0, -1.0]))
+                    .unwrap();
                 assert_eq!((h.prim_id, h.material), (0, 7));
-                let h = g.intersect(&ray::<T>([0.75, 0.25, 5.0], [0.0, 0.0, -1.0])).unwrap();
+                let h = g
+                    .intersect(&ray::<T>([0.75, 0.25, 5.0], [0.0, 0.0, -1.0]))
+                    .unwrap();
                 assert_eq!((h.prim_id, h.material), (1, 2));
-                let h = g.intersect(&ray::<T>([0.25, 0.75, 5.0], [0.0, 0.0, -1.0])).unwrap();
+                let h = g
+                    .intersect(&ray::<T>([0.25, 0.75, 5.0], [0.0, 0.0, -1.0]))
+                    .unwrap();
                 assert_eq!(h.prim_id, 2);
                 // Outside everything but the plane: the plane.
-                let h = g.intersect(&ray::<T>([50.0, 50.0, 5.0], [0.0, 0.0, -1.0])).unwrap();
+                let h = g
+                    .intersect(&ray::<T>([50.0, 50.0, 5.0], [0.0, 0.0, -1.0]))
+                    .unwrap();
                 assert_eq!((h.prim_id, h.material), (4, 4));
                 assert!(close(h.t, 10.0, TOL));
                 assert!(close_v(&h.geometric_normal, [0.0, 0.0, 1.0], TOL));
                 // Parallel to the plane above it: nothing.
-                assert!(g.intersect(&ray::<T>([50.0, 50.0, 5.0], [1.0, 0.0, 0.0])).is_none());
-                let h = g.intersect(&ray::<T>([5.0, 10.0, 1.0], [0.0, -1.0, 0.0])).unwrap();
+                assert!(g
+                    .intersect(&ray::<T>([50.0, 50.0, 5.0], [1.0, 0.0, 0.0]))
+                    .is_none());
+                let h = g
+                    .intersect(&ray::<T>([5.0, 10.0, 1.0], [0.0, -1.0, 0.0]))
+                    .unwrap();
                 assert_eq!(h.prim_id, 5);
-                let h = g.intersect(&ray::<T>([-2.25, 0.5, 5.0], [0.0, 0.0, -1.0])).unwrap();
+                let h = g
+                    .intersect(&ray::<T>([-2.25, 0.5, 5.0], [0.0, 0.0, -1.0]))
+                    .unwrap();
                 assert_eq!(h.prim_id, 6);
                 // Bounds cover the bounded primitives only.
                 let b = g.bounds();
@@ -469,8 +595,9 @@ macro_rules! precision_tests {
 
             #[test]
             fn stats_are_consistent() {
-                let shapes: Vec<ShapeDesc> =
-                    (0..500).map(|i| sphere([i as f64, (i % 7) as f64, (i % 13) as f64], 0.4)).collect();
+                let shapes: Vec<ShapeDesc> = (0..500)
+                    .map(|i| sphere([i as f64, (i % 7) as f64, (i % 13) as f64], 0.4))
+                    .collect();
                 let g = build(&shapes);
                 let s = g.stats();
                 let bvh = g.bvh().unwrap();
@@ -483,7 +610,9 @@ macro_rules! precision_tests {
                 assert!(s.build_ms >= 0.0);
                 assert!(s.bytes_per_primitive() > 16.0 && s.bytes_per_primitive() < 200.0);
                 let none = Geometry::<T>::build(&[], &AccelOptions::default());
-                assert!(none.intersect(&ray::<T>([0.0; 3], [0.0, 0.0, 1.0])).is_none());
+                assert!(none
+                    .intersect(&ray::<T>([0.0; 3], [0.0, 0.0, 1.0]))
+                    .is_none());
                 assert!(none.bounds().is_empty());
             }
         }

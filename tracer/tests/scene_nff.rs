@@ -258,7 +258,7 @@ fn showcase_has_every_feature() {
                 radius,
                 ..
             } => {
-                assert_eq!(*radius, 0.6);
+                assert_eq!(*radius, 0.8);
                 inside += 1;
             }
             Shape::Cone {
@@ -269,7 +269,7 @@ fn showcase_has_every_feature() {
                 ..
             } if base_radius == apex_radius => {
                 // Written over three lines.
-                assert_eq!((*base, *apex), ([-3.8, -1.2, 0.0], [-3.8, -1.2, 2.2]));
+                assert_eq!((*base, *apex), ([-3.9, 2.4, 0.0], [-3.9, 2.4, 2.2]));
                 assert_eq!(*base_radius, 0.4);
             }
             Shape::Cone { apex_radius, .. } => assert_eq!(*apex_radius, 0.0),

@@ -2,7 +2,7 @@
 //!
 //! I. Wald, "On fast Construction of SAH-based Bounding Volume Hierarchies", IEEE
 //! Symposium on Interactive Ray Tracing 2007: instead of sorting, primitive centroids
-//! are dropped into [`NUM_BINS`] equal bins along each axis of the node's centroid
+//! are dropped into up to [`NUM_BINS`] equal bins along each axis of the node's centroid
 //! bounds, and the surface area heuristic
 //! $C = C_{trav} + C_{isect} (A_L N_L + A_R N_R) / A$ is evaluated only at the bin
 //! boundaries, with two sweeps over the bins. All three axes are binned in the same
@@ -20,9 +20,12 @@
 //! bit-identical for any number of threads.
 
 use super::node::{Bounds3, Node};
+use vecexpr::Scalar;
 
 /// Bins per axis.
 pub const NUM_BINS: usize = 32;
+/// Bins per axis for nodes of at most this many primitives (one bin per primitive above).
+pub const MIN_BINS: usize = 4;
 /// SAH cost of visiting a node, relative to one primitive test.
 pub const TRAVERSAL_COST: f32 = 1.0;
 /// SAH cost of one primitive test.
@@ -32,14 +35,72 @@ pub const MAX_SAH_DEPTH: usize = 64;
 /// Smallest subtree (in primitives) built as a separate parallel task.
 pub const PARALLEL_MIN: usize = 4096;
 
-/// A primitive as the builder sees it: conservative bounds and an opaque id that ends up
-/// in the BVH's reference array.
+/// A box as four-lane arrays (lane 3 unused, kept 0), so that unions compile to one
+/// `minps`/`maxps` pair.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C, align(16))]
+struct Box4 {
+    lo: [f32; 4],
+    hi: [f32; 4],
+}
+
+impl Box4 {
+    const EMPTY: Self = Self {
+        lo: [f32::INFINITY, f32::INFINITY, f32::INFINITY, 0.0],
+        hi: [f32::NEG_INFINITY, f32::NEG_INFINITY, f32::NEG_INFINITY, 0.0],
+    };
+
+    #[inline(always)]
+    fn union(&mut self, o: &Self) {
+        for i in 0..4 {
+            self.lo[i] = Scalar::min(o.lo[i], self.lo[i]);
+            self.hi[i] = Scalar::max(o.hi[i], self.hi[i]);
+        }
+    }
+
+    #[inline(always)]
+    fn half_area(&self) -> f32 {
+        let d: [f32; 3] = core::array::from_fn(|i| (self.hi[i] - self.lo[i]).max(0.0));
+        d[0] * d[1] + d[1] * d[2] + d[2] * d[0]
+    }
+
+    fn to_array(self) -> [[f32; 3]; 2] {
+        [
+            [self.lo[0], self.lo[1], self.lo[2]],
+            [self.hi[0], self.hi[1], self.hi[2]],
+        ]
+    }
+}
+
+/// A primitive as the builder sees it: conservative bounds, their centroid, and an
+/// opaque id that ends up in the BVH's reference array (48 bytes).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C, align(16))]
 pub struct BuildPrim {
-    /// Bounds, rounded outward to `f32`.
-    pub bounds: Bounds3,
+    bounds: Box4,
+    centroid: [f32; 3],
     /// The caller's id for the primitive.
     pub id: u32,
+}
+
+impl BuildPrim {
+    /// A primitive with bounds `b` (rounded outward to `f32`) and id `id`.
+    pub fn new(b: Bounds3, id: u32) -> Self {
+        Self {
+            bounds: Box4 {
+                lo: [b.lo[0], b.lo[1], b.lo[2], 0.0],
+                hi: [b.hi[0], b.hi[1], b.hi[2], 0.0],
+            },
+            centroid: b.centroid(),
+            id,
+        }
+    }
+
+    /// The bounds.
+    pub fn bounds(&self) -> Bounds3 {
+        let [lo, hi] = self.bounds.to_array();
+        Bounds3 { lo, hi }
+    }
 }
 
 /// Builder settings.
@@ -54,8 +115,14 @@ pub struct BuildConfig {
 /// A built subtree: either a finished depth-first node array whose interior `offset`s
 /// are relative to its own start, or a node whose two subtrees were built in parallel.
 enum Subtree {
-    Flat { nodes: Vec<Node>, depth: usize },
-    Split { node: Node, children: Box<(Subtree, Subtree)> },
+    Flat {
+        nodes: Vec<Node>,
+        depth: usize,
+    },
+    Split {
+        node: Node,
+        children: Box<(Subtree, Subtree)>,
+    },
 }
 
 /// Builds over `prims`, reordering them in place so that every leaf covers a contiguous
@@ -109,19 +176,29 @@ fn flatten(tree: Subtree, out: &mut Vec<Node>) -> usize {
 
 /// Builds the subtree over `prims` (which start at reference index `first`), forking
 /// into parallel tasks while it is large.
-fn build_subtree(cfg: &BuildConfig, prims: &mut [BuildPrim], first: usize, depth: usize) -> Subtree {
+fn build_subtree(
+    cfg: &BuildConfig,
+    prims: &mut [BuildPrim],
+    first: usize,
+    depth: usize,
+) -> Subtree {
     if !cfg.parallel || prims.len() < PARALLEL_MIN {
-        let mut nodes = Vec::with_capacity(prims.len());
-        let d = build_serial(cfg, prims, first, depth, &mut nodes);
+        let mut nodes = Vec::with_capacity(2 * prims.len() - 1);
+        let mut scratch = Box::new(Scratch::new());
+        let d = build_serial(cfg, prims, first, depth, &mut nodes, &mut scratch);
         return Subtree::Flat {
             nodes,
             depth: d - depth,
         };
     }
     let (bounds, centroids) = measure(prims);
-    match split(cfg, prims, &bounds, &centroids, depth) {
+    match split(cfg, prims, &bounds, &centroids, depth, &mut Scratch::new()) {
         None => Subtree::Flat {
-            nodes: vec![Node::leaf(bounds.to_array(), first as u32, prims.len() as u32)],
+            nodes: vec![Node::leaf(
+                bounds.to_array(),
+                first as u32,
+                prims.len() as u32,
+            )],
             depth: 1,
         },
         Some(mid) => {
@@ -147,52 +224,76 @@ fn build_serial(
     first: usize,
     depth: usize,
     nodes: &mut Vec<Node>,
+    scratch: &mut Scratch,
 ) -> usize {
     let (bounds, centroids) = measure(prims);
     let at = nodes.len();
-    match split(cfg, prims, &bounds, &centroids, depth) {
+    match split(cfg, prims, &bounds, &centroids, depth, scratch) {
         None => {
-            nodes.push(Node::leaf(bounds.to_array(), first as u32, prims.len() as u32));
+            nodes.push(Node::leaf(
+                bounds.to_array(),
+                first as u32,
+                prims.len() as u32,
+            ));
             depth + 1
         }
         Some(mid) => {
             nodes.push(Node::interior(bounds.to_array()));
             let (l, r) = prims.split_at_mut(mid);
-            let dl = build_serial(cfg, l, first, depth + 1, nodes);
+            let dl = build_serial(cfg, l, first, depth + 1, nodes, scratch);
             nodes[at].offset = nodes.len() as u32;
-            let dr = build_serial(cfg, r, first + mid, depth + 1, nodes);
+            let dr = build_serial(cfg, r, first + mid, depth + 1, nodes, scratch);
             dl.max(dr)
         }
     }
 }
 
 /// Bounds of the primitives and of their centroids.
-fn measure(prims: &[BuildPrim]) -> (Bounds3, Bounds3) {
-    let mut b = Bounds3::EMPTY;
+fn measure(prims: &[BuildPrim]) -> (Box4, Bounds3) {
+    let mut b = Box4::EMPTY;
     let mut c = Bounds3::EMPTY;
     for p in prims {
         b.union(&p.bounds);
-        c.add_point(p.bounds.centroid());
+        c.add_point(p.centroid);
     }
     (b, c)
 }
 
 #[derive(Clone, Copy)]
 struct Bin {
-    bounds: Bounds3,
+    bounds: Box4,
     count: u32,
 }
 
+/// Per-thread working memory of [`split`], reused across nodes: clearing 96 bins for
+/// every node would cost more than binning the small ones.
+struct Scratch {
+    bins: [[Bin; NUM_BINS]; 3],
+    right_cost: [f32; NUM_BINS],
+    right_count: [u32; NUM_BINS],
+}
+
+impl Scratch {
+    fn new() -> Self {
+        Self {
+            bins: [[EMPTY_BIN; NUM_BINS]; 3],
+            right_cost: [0.0; NUM_BINS],
+            right_count: [0; NUM_BINS],
+        }
+    }
+}
+
 const EMPTY_BIN: Bin = Bin {
-    bounds: Bounds3::EMPTY,
+    bounds: Box4::EMPTY,
     count: 0,
 };
 
 /// Maps a centroid coordinate to its bin: $\lfloor (c - c_{min}) k \rfloor$ with
 /// $k = B (1 - 10^{-6}) / (c_{max} - c_{min})$, clamped (the cast saturates).
 #[inline(always)]
-fn bin_of(c: f32, cmin: f32, k: f32) -> usize {
-    (((c - cmin) * k) as usize).min(NUM_BINS - 1)
+fn bin_of(c: f32, cmin: f32, k: f32, nb: usize) -> usize {
+    // `as i32` saturates (NaN to 0), and is cheaper than a cast to usize.
+    (((c - cmin) * k) as i32).clamp(0, nb as i32 - 1) as usize
 }
 
 /// Decides the node: `None` for a leaf, or `Some(mid)` after partitioning `prims` into
@@ -200,9 +301,10 @@ fn bin_of(c: f32, cmin: f32, k: f32) -> usize {
 fn split(
     cfg: &BuildConfig,
     prims: &mut [BuildPrim],
-    bounds: &Bounds3,
+    bounds: &Box4,
     centroids: &Bounds3,
     depth: usize,
+    scratch: &mut Scratch,
 ) -> Option<usize> {
     let n = prims.len();
     if n <= 1 {
@@ -217,24 +319,33 @@ fn split(
         };
     }
 
-    // Bin all three axes in one pass.
+    // Bin all three axes in one pass. Small nodes use fewer bins: the sweeps cost
+    // O(bins) per node, which would otherwise dominate near the leaves.
+    let nb = n.clamp(MIN_BINS, NUM_BINS);
     let extent: [f32; 3] = core::array::from_fn(|a| centroids.hi[a] - centroids.lo[a]);
     let scale: [f32; 3] = core::array::from_fn(|a| {
         if extent[a] > 0.0 && extent[a].is_finite() {
-            NUM_BINS as f32 * (1.0 - 1e-6) / extent[a]
+            nb as f32 * (1.0 - 1e-6) / extent[a]
         } else {
             0.0
         }
     });
-    let mut bins = [[EMPTY_BIN; NUM_BINS]; 3];
+    let bins = &mut scratch.bins;
+    for axis in bins.iter_mut() {
+        axis[..nb].fill(EMPTY_BIN);
+    }
+    // The three bin indices are computed as one four-lane operation; a flat axis has
+    // scale 0, puts everything in bin 0 and is skipped by the sweep.
+    let cmin = [centroids.lo[0], centroids.lo[1], centroids.lo[2], 0.0];
+    let k = [scale[0], scale[1], scale[2], 0.0];
+    let top = nb as i32 - 1;
     for p in prims.iter() {
-        let c = p.bounds.centroid();
+        let c = [p.centroid[0], p.centroid[1], p.centroid[2], 0.0];
+        let idx: [i32; 4] = core::array::from_fn(|a| (((c[a] - cmin[a]) * k[a]) as i32).clamp(0, top));
         for a in 0..3 {
-            if scale[a] > 0.0 {
-                let bin = &mut bins[a][bin_of(c[a], centroids.lo[a], scale[a])];
-                bin.count += 1;
-                bin.bounds.union(&p.bounds);
-            }
+            let bin = &mut bins[a][idx[a] as usize];
+            bin.count += 1;
+            bin.bounds.union(&p.bounds);
         }
     }
 
@@ -245,19 +356,19 @@ fn split(
             continue;
         }
         let bins = &bins[a];
-        let mut right_cost = [0.0f32; NUM_BINS];
-        let mut right_count = [0u32; NUM_BINS];
-        let mut acc = Bounds3::EMPTY;
+        let right_cost = &mut scratch.right_cost;
+        let right_count = &mut scratch.right_count;
+        let mut acc = Box4::EMPTY;
         let mut count = 0u32;
-        for i in (1..NUM_BINS).rev() {
+        for i in (1..nb).rev() {
             acc.union(&bins[i].bounds);
             count += bins[i].count;
             right_count[i - 1] = count;
             right_cost[i - 1] = count as f32 * acc.half_area();
         }
-        let mut acc = Bounds3::EMPTY;
+        let mut acc = Box4::EMPTY;
         let mut count = 0u32;
-        for i in 0..NUM_BINS - 1 {
+        for i in 0..nb - 1 {
             acc.union(&bins[i].bounds);
             count += bins[i].count;
             if count == 0 || right_count[i] == 0 {
@@ -274,12 +385,13 @@ fn split(
     if let Some((cost, axis, bin)) = best {
         let leaf_cost = INTERSECT_COST * n as f32;
         let split_cost = TRAVERSAL_COST + INTERSECT_COST * cost / area;
-        if may_be_leaf && !(split_cost < leaf_cost) {
+        let split_pays = split_cost < leaf_cost;
+        if may_be_leaf && !split_pays {
             return None;
         }
         if split_cost.is_finite() || !may_be_leaf {
             let (cmin, k) = (centroids.lo[axis], scale[axis]);
-            let mid = partition(prims, |p| bin_of(p.bounds.centroid()[axis], cmin, k) <= bin);
+            let mid = partition(prims, |p| bin_of(p.centroid[axis], cmin, k, nb) <= bin);
             debug_assert!(mid > 0 && mid < n);
             return Some(mid);
         }
@@ -301,7 +413,7 @@ fn median_split(prims: &mut [BuildPrim], centroids: &Bounds3) -> usize {
         .unwrap_or(0);
     if extent[axis] > 0.0 {
         prims.select_nth_unstable_by(mid, |p, q| {
-            p.bounds.centroid()[axis].total_cmp(&q.bounds.centroid()[axis])
+            p.centroid[axis].total_cmp(&q.centroid[axis])
         });
     }
     mid
@@ -331,13 +443,13 @@ mod tests {
     use super::*;
 
     fn cube(p: [f32; 3], h: f32, id: u32) -> BuildPrim {
-        BuildPrim {
-            bounds: Bounds3 {
+        BuildPrim::new(
+            Bounds3 {
                 lo: p.map(|x| x - h),
                 hi: p.map(|x| x + h),
             },
             id,
-        }
+        )
     }
 
     /// Pseudo-random points from a fixed-seed xorshift.
@@ -350,7 +462,13 @@ mod tests {
             (s >> 40) as f32 / (1u64 << 24) as f32
         };
         (0..n)
-            .map(|i| cube([next() * 100.0, next() * 100.0, next() * 100.0], next(), i as u32))
+            .map(|i| {
+                cube(
+                    [next() * 100.0, next() * 100.0, next() * 100.0],
+                    next(),
+                    i as u32,
+                )
+            })
             .collect()
     }
 
@@ -367,7 +485,9 @@ mod tests {
                     assert!(!seen[p.id as usize]);
                     seen[p.id as usize] = true;
                     for a in 0..3 {
-                        assert!(n.bounds[0][a] <= p.bounds.lo[a] && p.bounds.hi[a] <= n.bounds[1][a]);
+                        assert!(
+                            n.bounds[0][a] <= p.bounds().lo[a] && p.bounds().hi[a] <= n.bounds[1][a]
+                        );
                     }
                 }
             } else {
@@ -418,7 +538,10 @@ mod tests {
                 parallel: false,
             },
         );
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(3).build().unwrap();
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(3)
+            .build()
+            .unwrap();
         let parallel = pool.install(|| {
             build(
                 &mut b,
@@ -435,9 +558,26 @@ mod tests {
     #[test]
     fn single_and_empty() {
         let mut none: Vec<BuildPrim> = Vec::new();
-        assert_eq!(build(&mut none, &BuildConfig { max_leaf_size: 4, parallel: true }).0.len(), 0);
+        assert_eq!(
+            build(
+                &mut none,
+                &BuildConfig {
+                    max_leaf_size: 4,
+                    parallel: true
+                }
+            )
+            .0
+            .len(),
+            0
+        );
         let mut one = vec![cube([0.0; 3], 1.0, 0)];
-        let (nodes, depth) = build(&mut one, &BuildConfig { max_leaf_size: 4, parallel: true });
+        let (nodes, depth) = build(
+            &mut one,
+            &BuildConfig {
+                max_leaf_size: 4,
+                parallel: true,
+            },
+        );
         assert_eq!((nodes.len(), depth), (1, 1));
         assert!(nodes[0].is_leaf());
     }

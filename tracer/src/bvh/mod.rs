@@ -32,7 +32,10 @@ impl Bvh {
     /// # Panics
     /// If there are more than `u32::MAX` primitives.
     pub fn build(prims: &mut [BuildPrim], cfg: &BuildConfig) -> Self {
-        assert!(u32::try_from(prims.len()).is_ok(), "too many primitives for a BVH");
+        assert!(
+            u32::try_from(prims.len()).is_ok(),
+            "too many primitives for a BVH"
+        );
         let (nodes, depth) = build::build(prims, cfg);
         Self {
             nodes,

@@ -187,7 +187,7 @@ impl Bounds3 {
     /// Is the box empty (any `lo > hi`)?
     #[inline]
     pub fn is_empty(&self) -> bool {
-        (0..3).any(|a| !(self.lo[a] <= self.hi[a]))
+        !(0..3).all(|a| self.lo[a] <= self.hi[a])
     }
 }
 
@@ -197,7 +197,17 @@ mod tests {
 
     #[test]
     fn rounding_is_outward() {
-        for &x in &[0.1f64, -0.1, 1.0 / 3.0, -1e-40, 3.0e38, 1e300, -1e300, 0.0, 1.5] {
+        for &x in &[
+            0.1f64,
+            -0.1,
+            1.0 / 3.0,
+            -1e-40,
+            3.0e38,
+            1e300,
+            -1e300,
+            0.0,
+            1.5,
+        ] {
             let (lo, hi) = (round_down(x), round_up(x));
             assert!(f64::from(lo) <= x && x <= f64::from(hi), "{x}: {lo} {hi}");
             assert!(hi == lo || hi == Real::next_up(lo), "{x}: {lo} {hi}");

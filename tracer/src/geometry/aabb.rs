@@ -23,17 +23,19 @@ impl<T: Real> Aabb<T> {
 
     /// Does it contain no point?
     pub fn is_empty(&self) -> bool {
-        (0..3).any(|a| !(self.min[a] <= self.max[a]))
+        !(0..3).all(|a| self.min[a] <= self.max[a])
     }
 
     /// Centre (meaningless when empty).
     pub fn center(&self) -> Vec3<T> {
-        (&self.min + &self.max).scale(<T as Real>::from_f64(0.5)).eval()
+        (self.min + self.max)
+            .scale(<T as Real>::from_f64(0.5))
+            .eval()
     }
 
     /// `max - min` (meaningless when empty).
     pub fn diagonal(&self) -> Vec3<T> {
-        (&self.max - &self.min).eval()
+        (self.max - self.min).eval()
     }
 
     /// Does it contain `p` (boundary included)?

@@ -50,7 +50,11 @@ impl<T: Real> Default for GeometryBuilder<T> {
 }
 
 fn to_t<T: Real>(p: &P3) -> Vec3<T> {
-    vec3(<T as Real>::from_f64(p[0]), <T as Real>::from_f64(p[1]), <T as Real>::from_f64(p[2]))
+    vec3(
+        <T as Real>::from_f64(p[0]),
+        <T as Real>::from_f64(p[1]),
+        <T as Real>::from_f64(p[2]),
+    )
 }
 
 fn finite<T: Real>(v: &Vec3<T>) -> bool {
@@ -97,10 +101,25 @@ impl<T: Real> GeometryBuilder<T> {
     /// Adds a cone or cylinder without caps from the base centre and radius to the apex
     /// centre and radius. A negative radius means the inside is visible.
     #[must_use = "the builder is returned by value"]
-    pub fn add_cone(mut self, base: Vec3<T>, base_radius: T, apex: Vec3<T>, apex_radius: T, material: u32) -> Self {
+    pub fn add_cone(
+        mut self,
+        base: Vec3<T>,
+        base_radius: T,
+        apex: Vec3<T>,
+        apex_radius: T,
+        material: u32,
+    ) -> Self {
         let id = self.take_id();
         let inside = base_radius < T::ZERO || apex_radius < T::ZERO;
-        self.push_cone(id, base, base_radius.abs(), apex, apex_radius.abs(), inside, material);
+        self.push_cone(
+            id,
+            base,
+            base_radius.abs(),
+            apex,
+            apex_radius.abs(),
+            inside,
+            material,
+        );
         self
     }
 
@@ -204,7 +223,13 @@ impl<T: Real> GeometryBuilder<T> {
                 center,
                 radius,
                 inside_visible,
-            } => self.push_sphere(id, to_t(center), <T as Real>::from_f64(radius.abs()), *inside_visible, m),
+            } => self.push_sphere(
+                id,
+                to_t(center),
+                <T as Real>::from_f64(radius.abs()),
+                *inside_visible,
+                m,
+            ),
             Shape::Cone {
                 base,
                 base_radius,
@@ -235,7 +260,14 @@ impl<T: Real> GeometryBuilder<T> {
         }
     }
 
-    fn push_sphere(&mut self, id: u32, center: Vec3<T>, radius: T, inside_visible: bool, material: u32) {
+    fn push_sphere(
+        &mut self,
+        id: u32,
+        center: Vec3<T>,
+        radius: T,
+        inside_visible: bool,
+        material: u32,
+    ) {
         let ok = finite(&center)
             && radius.is_finite()
             && radius > T::ZERO
@@ -278,7 +310,13 @@ impl<T: Real> GeometryBuilder<T> {
     }
 
     /// Triangulates (in `f64`) and stores the triangles that keep a non-zero area in `T`.
-    fn push_polygon(&mut self, id: u32, vertices: &[Vec3<T>], normals: Option<&[Vec3<T>]>, material: u32) {
+    fn push_polygon(
+        &mut self,
+        id: u32,
+        vertices: &[Vec3<T>],
+        normals: Option<&[Vec3<T>]>,
+        material: u32,
+    ) {
         let v64: Vec<[f64; 3]> = vertices
             .iter()
             .map(|p| [p[0].to_f64(), p[1].to_f64(), p[2].to_f64()])

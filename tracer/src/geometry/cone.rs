@@ -10,8 +10,8 @@
 //! As for spheres (Haines et al., Ray Tracing Gems ch. 7) the discriminant is not formed
 //! as $B^2 - AC$, which cancels for a distant or thin cylinder, but expanded with
 //! Lagrange's identity $|w_\perp|^2 |d_\perp|^2 - (w_\perp \cdot d_\perp)^2 = |w_\perp \times d_\perp|^2$:
-//! $$B^2 - AC = \rho^2 d_\perp^2 - |w_\perp \times d_\perp|^2
-//!   + k d_s (k d_s w_\perp^2 - 2 \rho\, w_\perp \cdot d_\perp),$$
+//! $$B^2 - AC = \rho^2 d_\perp^2 - |w_\perp \times d_\perp|^2 +
+//!   k d_s (k d_s w_\perp^2 - 2 \rho\, w_\perp \cdot d_\perp),$$
 //! exact in the cylinder case $k = 0$. Roots use the same stable $q$ form; $A = 0$ (a ray
 //! parallel to a generator line) leaves the single root $C/q$. Only $r(s) \ge 0$ occurs on
 //! $[0, h]$, so the mirrored nappe of the double cone is excluded by the range test.
@@ -44,7 +44,8 @@ impl<T: Real> Cone<T> {
         let h = (e[0] * e[0] + e[1] * e[1] + e[2] * e[2]).sqrt();
         let (r0, r1) = (base_radius.to_f64(), apex_radius.to_f64());
         let finite = b.iter().chain(&e).all(|x| x.is_finite()) && r0.is_finite() && r1.is_finite();
-        if !finite || !(h > 0.0) || r0 < 0.0 || r1 < 0.0 || (r0 == 0.0 && r1 == 0.0) {
+        let valid = finite && h > 0.0 && r0 >= 0.0 && r1 >= 0.0 && (r0 > 0.0 || r1 > 0.0);
+        if !valid {
             return None;
         }
         let c = |x: f64| <T as Real>::from_f64(x);
@@ -71,19 +72,20 @@ impl<T: Real> Cone<T> {
     #[inline(always)]
     pub(crate) fn intersect(&self, r: &RayData<T>, t_max: T) -> Option<T> {
         let k = self.slope;
-        let w = (&r.origin - &self.base).eval();
+        let w = (r.origin - self.base).eval();
         let ws = w.dot(&self.axis);
         let ds = r.dir.dot(&self.axis);
-        let wp = (&w - (&self.axis).scale(ws)).eval();
-        let dp = (&r.dir - (&self.axis).scale(ds)).eval();
+        let wp = (w - (&self.axis).scale(ws)).eval();
+        let dp = (r.dir - (&self.axis).scale(ds)).eval();
         let rho = self.base_radius + k * ws;
         let dpdp = dp.length_squared();
         let wpwp = wp.length_squared();
         let wpdp = wp.dot(&dp);
         let kds = k * ds;
         let cr = wp.cross(&dp);
-        let disc = rho * rho * dpdp - cr.length_squared() + kds * (kds * wpwp - <T as Real>::from_f64(2.0) * rho * wpdp);
-        if !(disc >= T::ZERO) {
+        let disc = rho * rho * dpdp - cr.length_squared()
+            + kds * (kds * wpwp - <T as Real>::from_f64(2.0) * rho * wpdp);
+        if disc < T::ZERO || disc.is_nan() {
             return None;
         }
         let a = dpdp - kds * kds;
@@ -108,10 +110,10 @@ impl<T: Real> Cone<T> {
     /// $q - r(s)\,k\,\hat a$ with $q$ the radial offset, taken as $\hat q - k \hat a$.
     #[inline]
     pub(crate) fn normal(&self, r: &RayData<T>, t: T) -> Vec3<T> {
-        let rel = (&r.origin - &self.base + (&r.dir).scale(t)).eval();
+        let rel = (r.origin - self.base + (&r.dir).scale(t)).eval();
         let s = rel.dot(&self.axis);
-        let q = (&rel - (&self.axis).scale(s)).normalize();
-        let n = (&q - (&self.axis).scale(self.slope)).normalize();
+        let q = (rel - (&self.axis).scale(s)).normalize();
+        let n = (q - (&self.axis).scale(self.slope)).normalize();
         if n.length_squared() > T::ZERO {
             return n;
         }
@@ -188,7 +190,7 @@ mod tests {
         let c = Cone::new(vec3(0.0f64, 0.0, 0.0), 1.0, vec3(0.0, 0.0, 1.0), 0.0).unwrap();
         let r = data(vec3(0.5, 0.0, -0.5), vec3(-1.0, 0.0, 1.0));
         let t = c.intersect(&r, f64::MAX).unwrap();
-        let p = (&r.origin + (&r.dir).scale(t)).eval();
+        let p = (r.origin + (&r.dir).scale(t)).eval();
         // The single root is on the far side: radius 1 - z at (-0.5, 0, 0.5).
         assert!((t - 1.0).abs() < 1e-12, "{t}");
         assert!((p[0].hypot(p[1]) - (1.0 - p[2])).abs() < 1e-12, "{p:?}");
@@ -214,7 +216,7 @@ mod tests {
             let phi = i as f64 / 64.0 * std::f64::consts::TAU;
             let dir = ((&u).scale(phi.cos()) + (&v).scale(phi.sin())).eval();
             for (s, r) in [(0.0, 0.5), (c.height, 1.5)] {
-                let p = (&c.base + (&a).scale(s) + (&dir).scale(r)).eval();
+                let p = (c.base + (&a).scale(s) + (&dir).scale(r)).eval();
                 for k in 0..3 {
                     assert!(lo[k] - 1e-12 <= p[k] && p[k] <= hi[k] + 1e-12);
                 }

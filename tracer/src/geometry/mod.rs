@@ -186,7 +186,7 @@ impl<T: Real> Geometry<T> {
         let mut build_prims = prims.build_prims();
         let mut total = Bounds3::EMPTY;
         for p in &build_prims {
-            total.union(&p.bounds);
+            total.union(&p.bounds());
         }
         let bvh = opts.use_bvh.then(|| {
             let cfg = BuildConfig {
@@ -266,7 +266,9 @@ impl<T: Real> Geometry<T> {
         let i = (r & INDEX_MASK) as usize;
         let zero = T::ZERO;
         match r >> TAG_SHIFT {
-            SPHERE => self.prims.spheres[i].intersect(rd, t_max).map(|t| (t, zero, zero)),
+            SPHERE => self.prims.spheres[i]
+                .intersect(rd, t_max)
+                .map(|t| (t, zero, zero)),
             TRIANGLE => {
                 let tri = &self.prims.triangles[i];
                 if WATERTIGHT {
@@ -275,8 +277,12 @@ impl<T: Real> Geometry<T> {
                     tri.intersect_moller_trumbore(rd, t_max)
                 }
             }
-            CONE => self.prims.cones[i].intersect(rd, t_max).map(|t| (t, zero, zero)),
-            _ => self.prims.planes[i].intersect(rd, t_max).map(|t| (t, zero, zero)),
+            CONE => self.prims.cones[i]
+                .intersect(rd, t_max)
+                .map(|t| (t, zero, zero)),
+            _ => self.prims.planes[i]
+                .intersect(rd, t_max)
+                .map(|t| (t, zero, zero)),
         }
     }
 
@@ -378,10 +384,12 @@ impl<T: Real> Geometry<T> {
                 } else {
                     let n = &p.shading[info.shading as usize];
                     let b0 = T::ONE - b.b1 - b.b2;
-                    let s = ((&n[0]).scale(b0) + (&n[1]).scale(b.b1) + (&n[2]).scale(b.b2)).normalize();
+                    let s =
+                        ((&n[0]).scale(b0) + (&n[1]).scale(b.b1) + (&n[2]).scale(b.b2)).normalize();
                     // normalize() gives a unit vector, zero, or NaN.
                     let d = s.dot(&ng);
-                    if !(s.length_squared() > <T as Real>::from_f64(0.5)) || d.is_nan() {
+                    let usable = s.length_squared() > <T as Real>::from_f64(0.5) && !d.is_nan();
+                    if !usable {
                         ng
                     } else if d < T::ZERO {
                         (-&s).eval()
@@ -394,13 +402,13 @@ impl<T: Real> Geometry<T> {
             CONE => {
                 let info = &p.cone_info[i];
                 let n = flip(p.cones[i].normal(rd, b.t), info.inside_visible);
-                let point = (&rd.origin + (&rd.dir).scale(b.t)).eval();
+                let point = (rd.origin + (&rd.dir).scale(b.t)).eval();
                 (point, n, n, info.prim_id, info.material)
             }
             _ => {
                 let info = &p.plane_info[i];
                 let n = p.planes[i].normal;
-                let point = (&rd.origin + (&rd.dir).scale(b.t)).eval();
+                let point = (rd.origin + (&rd.dir).scale(b.t)).eval();
                 (point, n, n, info.prim_id, info.material)
             }
         };

@@ -28,7 +28,7 @@ impl<T: Real> Plane<T> {
         if denom == T::ZERO {
             return None;
         }
-        let t = (&self.point - &r.origin).dot(&self.normal) / denom;
+        let t = (self.point - r.origin).dot(&self.normal) / denom;
         r.accepts(t, t_max).then_some(t)
     }
 }

@@ -75,13 +75,18 @@ impl<T: Real> RayData<T> {
     /// empty interval.
     #[inline(always)]
     pub fn new(ray: &Ray<T>) -> Option<Self> {
-        let finite = ray.origin.iter().chain(ray.dir.iter()).all(|x| x.is_finite());
+        let finite = ray
+            .origin
+            .iter()
+            .chain(ray.dir.iter())
+            .all(|x| x.is_finite());
         let dd = ray.dir.length_squared();
-        if !finite
-            || !(dd >= T::MIN_POSITIVE && dd <= T::MAX)
-            || ray.t_min.is_nan()
-            || !(ray.t_max > ray.t_min)
-        {
+        let valid = finite
+            && dd >= T::MIN_POSITIVE
+            && dd <= T::MAX
+            && !ray.t_min.is_nan()
+            && ray.t_max > ray.t_min;
+        if !valid {
             return None;
         }
         let t_min = ray.t_min;
@@ -128,8 +133,17 @@ mod tests {
         assert!(RayData::new(&Ray::new(vec3(f32::NAN, 0.0, 0.0), d)).is_none());
         assert!(RayData::new(&Ray::new(o, vec3(0.0, f32::INFINITY, 1.0))).is_none());
         assert!(RayData::new(&Ray::new(o, vec3(0.0, 0.0, 0.0))).is_none());
-        assert!(RayData::new(&Ray { t_max: f32::NAN, ..Ray::new(o, d) }).is_none());
-        assert!(RayData::new(&Ray { t_min: 2.0, t_max: 1.0, ..Ray::new(o, d) }).is_none());
+        assert!(RayData::new(&Ray {
+            t_max: f32::NAN,
+            ..Ray::new(o, d)
+        })
+        .is_none());
+        assert!(RayData::new(&Ray {
+            t_min: 2.0,
+            t_max: 1.0,
+            ..Ray::new(o, d)
+        })
+        .is_none());
         assert_eq!(RayData::new(&Ray::new(o, d)).unwrap().t_limit, f32::MAX);
     }
 }

@@ -26,11 +26,11 @@ impl<T: Real> Sphere<T> {
     /// starts inside finds the far wall.
     #[inline(always)]
     pub(crate) fn intersect(&self, r: &RayData<T>, t_max: T) -> Option<T> {
-        let f = (&r.origin - &self.center).eval();
+        let f = (r.origin - self.center).eval();
         let b = f.dot(&r.dir);
         let r2 = self.radius * self.radius;
         // Squared distance from the centre to the ray's line.
-        let l = (&f - (&r.dir).scale(b * r.inv_dd)).eval();
+        let l = (f - (&r.dir).scale(b * r.inv_dd)).eval();
         let disc = r2 - l.length_squared();
         if disc < T::ZERO {
             return None;
@@ -53,13 +53,13 @@ impl<T: Real> Sphere<T> {
     #[inline]
     pub(crate) fn normal_and_point(&self, r: &RayData<T>, t: T) -> (Vec3<T>, Vec3<T>) {
         // Relative to the centre, so the result does not lose digits to a large |c|.
-        let rel = (&r.origin - &self.center + (&r.dir).scale(t)).eval();
+        let rel = (r.origin - self.center + (&r.dir).scale(t)).eval();
         let n = rel.normalize();
         if n.length_squared() > T::ZERO {
-            let p = (&self.center + (&n).scale(self.radius)).eval();
+            let p = (self.center + (&n).scale(self.radius)).eval();
             (n, p)
         } else {
-            ((-&r.dir).normalize(), (&r.origin + (&r.dir).scale(t)).eval())
+            ((-&r.dir).normalize(), (r.origin + (&r.dir).scale(t)).eval())
         }
     }
 }

@@ -96,7 +96,9 @@ impl<T: Real> Default for Prims<T> {
 /// rounding in the intersection kernels cannot report a hit outside the box, then rounds
 /// it outward to `f32`.
 fn padded<T: Real>(lo: [f64; 3], hi: [f64; 3]) -> Bounds3 {
-    let mag = (0..3).fold(0.0f64, |m, a| m.max(lo[a].abs()).max(hi[a].abs()).max(hi[a] - lo[a]));
+    let mag = (0..3).fold(0.0f64, |m, a| {
+        m.max(lo[a].abs()).max(hi[a].abs()).max(hi[a] - lo[a])
+    });
     let pad = 4.0 * T::EPSILON.to_f64() * mag;
     Bounds3::from_f64(lo.map(|x| x - pad), hi.map(|x| x + pad))
 }
@@ -140,10 +142,7 @@ impl<T: Real> Prims<T> {
         for (i, s) in self.spheres.iter().enumerate() {
             let r = s.radius.to_f64();
             let c: [f64; 3] = core::array::from_fn(|a| s.center[a].to_f64());
-            out.push(BuildPrim {
-                bounds: padded::<T>(c.map(|x| x - r), c.map(|x| x + r)),
-                id: make_ref(SPHERE, i),
-            });
+            out.push(BuildPrim::new(padded::<T>(c.map(|x| x - r), c.map(|x| x + r)), make_ref(SPHERE, i)));
         }
         for (i, t) in self.triangles.iter().enumerate() {
             let mut lo = [f64::INFINITY; 3];
@@ -154,17 +153,11 @@ impl<T: Real> Prims<T> {
                     hi[a] = hi[a].max(v[a].to_f64());
                 }
             }
-            out.push(BuildPrim {
-                bounds: padded::<T>(lo, hi),
-                id: make_ref(TRIANGLE, i),
-            });
+            out.push(BuildPrim::new(padded::<T>(lo, hi), make_ref(TRIANGLE, i)));
         }
         for (i, c) in self.cones.iter().enumerate() {
             let (lo, hi) = c.bounds_f64();
-            out.push(BuildPrim {
-                bounds: padded::<T>(lo, hi),
-                id: make_ref(CONE, i),
-            });
+            out.push(BuildPrim::new(padded::<T>(lo, hi), make_ref(CONE, i)));
         }
         out
     }

@@ -30,9 +30,9 @@ impl<T: Real> Triangle<T> {
     pub(crate) fn intersect_watertight(&self, r: &RayData<T>, t_max: T) -> Option<(T, T, T)> {
         let s = &r.shear;
         // Vertices relative to the origin.
-        let a = (&self.v[0] - &r.origin).eval();
-        let b = (&self.v[1] - &r.origin).eval();
-        let c = (&self.v[2] - &r.origin).eval();
+        let a = (self.v[0] - r.origin).eval();
+        let b = (self.v[1] - r.origin).eval();
+        let c = (self.v[2] - r.origin).eval();
         // Shear in x and y (z is scaled only when needed, below).
         let (ax, ay) = (a[s.kx] - s.sx * a[s.kz], a[s.ky] - s.sy * a[s.kz]);
         let (bx, by) = (b[s.kx] - s.sx * b[s.kz], b[s.ky] - s.sy * b[s.kz]);
@@ -42,7 +42,9 @@ impl<T: Real> Triangle<T> {
         let mut v = ax * cy - ay * cx;
         let mut w = bx * ay - by * ax;
         if u == T::ZERO || v == T::ZERO || w == T::ZERO {
-            let e = |p: T, q: T, r: T, s: T| <T as Real>::from_f64(p.to_f64() * q.to_f64() - r.to_f64() * s.to_f64());
+            let e = |p: T, q: T, r: T, s: T| {
+                <T as Real>::from_f64(p.to_f64() * q.to_f64() - r.to_f64() * s.to_f64())
+            };
             u = e(cx, by, cy, bx);
             v = e(ax, cy, ay, cx);
             w = e(bx, ay, by, ax);
@@ -69,15 +71,15 @@ impl<T: Real> Triangle<T> {
     /// Möller–Trumbore: $(t, b_1, b_2)$ for $t \in (t_{min}, t_{max}]$.
     #[inline(always)]
     pub(crate) fn intersect_moller_trumbore(&self, r: &RayData<T>, t_max: T) -> Option<(T, T, T)> {
-        let e1 = (&self.v[1] - &self.v[0]).eval();
-        let e2 = (&self.v[2] - &self.v[0]).eval();
+        let e1 = (self.v[1] - self.v[0]).eval();
+        let e2 = (self.v[2] - self.v[0]).eval();
         let p = r.dir.cross(&e2);
         let det = e1.dot(&p);
         if det == T::ZERO || !det.is_finite() {
             return None;
         }
         let inv = det.recip();
-        let s = (&r.origin - &self.v[0]).eval();
+        let s = (r.origin - self.v[0]).eval();
         let u = s.dot(&p) * inv;
         if !(u >= T::ZERO && u <= T::ONE) {
             return None;
@@ -97,7 +99,7 @@ impl<T: Real> Triangle<T> {
     /// Twice the area vector $(v_1 - v_0) \times (v_2 - v_0)$.
     #[inline]
     pub fn area_vector(&self) -> Vec3<T> {
-        (&self.v[1] - &self.v[0]).cross(&self.v[2] - &self.v[0])
+        (self.v[1] - self.v[0]).cross(self.v[2] - self.v[0])
     }
 
     /// The point with barycentrics $(1 - b_1 - b_2, b_1, b_2)$.
@@ -120,7 +122,11 @@ mod tests {
 
     fn tri() -> Triangle<f64> {
         Triangle {
-            v: [vec3(0.0, 0.0, 0.0), vec3(2.0, 0.0, 0.0), vec3(0.0, 2.0, 0.0)],
+            v: [
+                vec3(0.0, 0.0, 0.0),
+                vec3(2.0, 0.0, 0.0),
+                vec3(0.0, 2.0, 0.0),
+            ],
         }
     }
 
@@ -135,9 +141,11 @@ mod tests {
             let r = data(o, d);
             let a = t.intersect_watertight(&r, f64::MAX).unwrap();
             let b = t.intersect_moller_trumbore(&r, f64::MAX).unwrap();
-            assert!((a.0 - b.0).abs() < 1e-12 && (a.1 - b.1).abs() < 1e-12 && (a.2 - b.2).abs() < 1e-12);
+            assert!(
+                (a.0 - b.0).abs() < 1e-12 && (a.1 - b.1).abs() < 1e-12 && (a.2 - b.2).abs() < 1e-12
+            );
             let p = t.point(a.1, a.2);
-            assert!(p.approx_eq(&r.origin + (&r.dir).scale(a.0), 1e-12));
+            assert!(p.approx_eq(r.origin + (&r.dir).scale(a.0), 1e-12));
         }
         let r = data(vec3(0.5, 0.5, 3.0), vec3(0.0, 0.0, -1.0));
         let (t_hit, b1, b2) = t.intersect_watertight(&r, f64::MAX).unwrap();
@@ -164,13 +172,26 @@ mod tests {
     fn shared_edge_is_hit_exactly_once_or_twice_never_zero() {
         // Two triangles sharing the diagonal of the unit square; rays straight through
         // the diagonal.
-        let q = [vec3(0.0f32, 0.0, 0.0), vec3(1.0, 0.0, 0.0), vec3(1.0, 1.0, 0.0), vec3(0.0, 1.0, 0.0)];
-        let t1 = Triangle { v: [q[0], q[1], q[2]] };
-        let t2 = Triangle { v: [q[0], q[2], q[3]] };
+        let q = [
+            vec3(0.0f32, 0.0, 0.0),
+            vec3(1.0, 0.0, 0.0),
+            vec3(1.0, 1.0, 0.0),
+            vec3(0.0, 1.0, 0.0),
+        ];
+        let t1 = Triangle {
+            v: [q[0], q[1], q[2]],
+        };
+        let t2 = Triangle {
+            v: [q[0], q[2], q[3]],
+        };
         for i in 1..64 {
             // Exactly through the diagonal point (x, x, 0), from two directions.
             let x = i as f32 / 64.0;
-            let d = if i % 2 == 0 { vec3(0.25f32, 0.25, -1.0) } else { vec3(-0.375f32, 0.125, -1.0) };
+            let d = if i % 2 == 0 {
+                vec3(0.25f32, 0.25, -1.0)
+            } else {
+                vec3(-0.375f32, 0.125, -1.0)
+            };
             let r = data(vec3(x - d[0], x - d[1], 1.0), d);
             let hits = [&t1, &t2]
                 .iter()
