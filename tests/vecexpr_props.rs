@@ -523,7 +523,8 @@ macro_rules! props {
     };
 }
 
-integration_tests::for_each_case!(props);
+mod pxa { use super::*; props!(n1000, vecexpr::Packet<f32, vecexpr::typenum::U16>, f32, vecexpr::typenum::U1000, 1000, packet); }
+mod pxb { use super::*; props!(n3, f32, f32, vecexpr::typenum::U3, 3, scalar); }
 
 macro_rules! scalar_props {
     ($m:ident, $t:ty, $e:ty, $kind:ident) => {
@@ -604,5 +605,5 @@ macro_rules! scalar_props {
 
 mod per_scalar {
     use super::*;
-    integration_tests::for_each_scalar!(scalar_props);
+    scalar_props!(f32, f32, f32, scalar);
 }

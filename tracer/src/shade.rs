@@ -2,8 +2,8 @@
 //! reflection and Snell refraction (Whitted 1980, "An improved illumination model for
 //! shaded display").
 //!
-//! $I = K_a I_a C + \sum_{l \text{ visible}} \left(K_d C I_l (L \cdot N) + K_s I_l (R \cdot V)^n\right)
-//! + K_r I_r + K_t C I_t$, with $R = 2N(N \cdot L) - L$ the mirrored light direction.
+//! $I = K_a I_a C + \sum_{l} (K_d C I_l (L \cdot N) + K_s I_l (R \cdot V)^n) + K_r I_r + K_t C I_t$
+//! over the visible lights $l$, with $R = 2N(N \cdot L) - L$ the mirrored light direction.
 //! Escaping rays see the background colour.
 
 use crate::ray::{Hit, Ray};

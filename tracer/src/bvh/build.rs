@@ -24,12 +24,10 @@ use vecexpr::Scalar;
 
 /// Bins per axis.
 pub const NUM_BINS: usize = 32;
-/// Bins per axis for nodes of at most this many primitives (one bin per primitive above).
-pub const MIN_BINS: usize = 4;
-/// SAH cost of visiting a node, relative to one primitive test.
+/// Fewest bins per axis; a node of `n` primitives uses `n` bins, up to [`NUM_BINS`].
+pub const MIN_BINS: usize = 2;
+/// Default SAH cost of visiting a node, relative to one primitive test (the unit).
 pub const TRAVERSAL_COST: f32 = 1.0;
-/// SAH cost of one primitive test.
-pub const INTERSECT_COST: f32 = 1.0;
 /// Below this depth the SAH is no longer consulted; splits are at the object median.
 pub const MAX_SAH_DEPTH: usize = 64;
 /// Smallest subtree (in primitives) built as a separate parallel task.
@@ -110,6 +108,9 @@ pub struct BuildConfig {
     pub max_leaf_size: usize,
     /// Build large subtrees in parallel with rayon.
     pub parallel: bool,
+    /// SAH cost of visiting a node relative to one primitive test; larger values give
+    /// fewer, larger leaves.
+    pub traversal_cost: f32,
 }
 
 /// A built subtree: either a finished depth-first node array whose interior `offset`s
@@ -383,8 +384,8 @@ fn split(
 
     let area = bounds.half_area();
     if let Some((cost, axis, bin)) = best {
-        let leaf_cost = INTERSECT_COST * n as f32;
-        let split_cost = TRAVERSAL_COST + INTERSECT_COST * cost / area;
+        let leaf_cost = n as f32;
+        let split_cost = cfg.traversal_cost + cost / area;
         let split_pays = split_cost < leaf_cost;
         if may_be_leaf && !split_pays {
             return None;
@@ -509,6 +510,7 @@ mod tests {
         let cfg = BuildConfig {
             max_leaf_size: 4,
             parallel: true,
+            traversal_cost: TRAVERSAL_COST,
         };
         let (nodes, depth) = build(&mut prims, &cfg);
         check(&nodes, &prims, 4);
@@ -521,6 +523,7 @@ mod tests {
         let cfg = BuildConfig {
             max_leaf_size: 3,
             parallel: false,
+            traversal_cost: TRAVERSAL_COST,
         };
         let (nodes, depth) = build(&mut prims, &cfg);
         check(&nodes, &prims, 3);
@@ -536,6 +539,7 @@ mod tests {
             &BuildConfig {
                 max_leaf_size: 8,
                 parallel: false,
+                traversal_cost: TRAVERSAL_COST,
             },
         );
         let pool = rayon::ThreadPoolBuilder::new()
@@ -548,6 +552,7 @@ mod tests {
                 &BuildConfig {
                     max_leaf_size: 8,
                     parallel: true,
+                    traversal_cost: TRAVERSAL_COST,
                 },
             )
         });
@@ -557,27 +562,15 @@ mod tests {
 
     #[test]
     fn single_and_empty() {
+        let cfg = BuildConfig {
+            max_leaf_size: 4,
+            parallel: true,
+            traversal_cost: TRAVERSAL_COST,
+        };
         let mut none: Vec<BuildPrim> = Vec::new();
-        assert_eq!(
-            build(
-                &mut none,
-                &BuildConfig {
-                    max_leaf_size: 4,
-                    parallel: true
-                }
-            )
-            .0
-            .len(),
-            0
-        );
+        assert_eq!(build(&mut none, &cfg).0.len(), 0);
         let mut one = vec![cube([0.0; 3], 1.0, 0)];
-        let (nodes, depth) = build(
-            &mut one,
-            &BuildConfig {
-                max_leaf_size: 4,
-                parallel: true,
-            },
-        );
+        let (nodes, depth) = build(&mut one, &cfg);
         assert_eq!((nodes.len(), depth), (1, 1));
         assert!(nodes[0].is_leaf());
     }

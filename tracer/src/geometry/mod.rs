@@ -62,7 +62,7 @@ pub enum TriangleTest {
 }
 
 /// How to accelerate ray queries.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AccelOptions {
     /// Build and use a BVH; `false` tests every primitive (for comparison).
     pub use_bvh: bool,
@@ -73,6 +73,9 @@ pub struct AccelOptions {
     /// Build large subtrees in parallel on the rayon pool (the tree is identical either
     /// way).
     pub parallel_build: bool,
+    /// SAH cost of visiting a BVH node relative to one primitive test: larger values
+    /// give fewer nodes with more primitives each (less memory, faster build).
+    pub traversal_cost: f32,
 }
 
 impl Default for AccelOptions {
@@ -83,6 +86,7 @@ impl Default for AccelOptions {
             triangle: TriangleTest::Watertight,
             max_leaf_size: 8,
             parallel_build: true,
+            traversal_cost: crate::bvh::build::TRAVERSAL_COST,
         }
     }
 }
@@ -192,6 +196,7 @@ impl<T: Real> Geometry<T> {
             let cfg = BuildConfig {
                 max_leaf_size: opts.max_leaf_size,
                 parallel: opts.parallel_build,
+                traversal_cost: opts.traversal_cost,
             };
             let mut bvh = Bvh::build(&mut build_prims, &cfg);
             prims.reorder(&mut bvh);
