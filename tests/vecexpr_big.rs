@@ -59,11 +59,17 @@ fn million_element_fused_tree_matches_the_loop() {
     let seq = naive::sum_sequential(&products);
     let abs_sum: f64 = products.iter().map(|&p| f64::from(p.abs())).sum();
     let bound = 2.0 * LEN as f64 * f64::from(f32::EPSILON) * abs_sum;
-    assert!(f64::from((dot - seq).abs()) <= bound, "dot {dot} vs sequential {seq}");
+    assert!(
+        f64::from((dot - seq).abs()) <= bound,
+        "dot {dot} vs sequential {seq}"
+    );
     // Each of the 32 partial sums adds LEN / 32 terms and the pairwise combination five
     // more levels, so against the exact sum (f64 is exact enough here) the error is at
     // most (LEN / 32 + 5) eps sum|p|, 32 times tighter than the sequential bound.
     let exact: f64 = products.iter().map(|&p| f64::from(p)).sum();
     let tight = (LEN / 32 + 6) as f64 * f64::from(f32::EPSILON) * abs_sum;
-    assert!((f64::from(dot) - exact).abs() <= tight, "dot {dot} vs exact {exact}");
+    assert!(
+        (f64::from(dot) - exact).abs() <= tight,
+        "dot {dot} vs exact {exact}"
+    );
 }

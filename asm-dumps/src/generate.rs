@@ -59,6 +59,8 @@ pub fn target(name: &str) -> Option<&'static Target> {
 }
 
 /// Profile settings passed as `--config` so the workspace profile cannot change them.
+/// `lto=false` matters most: with the workspace's `lto = "thin"`, rustc emits the ThinLTO
+/// pre-link code for a library, in which nothing is unrolled or vectorised yet.
 pub const PROFILE: [&str; 5] = [
     "profile.release.opt-level=3",
     "profile.release.codegen-units=1",

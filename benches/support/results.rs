@@ -405,7 +405,14 @@ pub fn speedup_svg(runs: &[Run]) -> String {
     )
     .unwrap();
     // Axes and grid.
-    for k in 0..=(ymax as usize) {
+    let step = if ymax > 12.0 {
+        5
+    } else if ymax > 6.0 {
+        2
+    } else {
+        1
+    };
+    for k in (0..=(ymax as usize)).step_by(step) {
         let y = py(k as f64);
         writeln!(
             s,

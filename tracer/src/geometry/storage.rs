@@ -1,16 +1,6 @@
-//! Primitive storage: one array per type, hot data apart from cold data.
-//!
-//! # Why typed arrays and not an enum
-//! An enum of all primitives would be as large as its largest variant plus a tag (a
-//! cone's 36 bytes in `f32` for every sphere's 16) and would interleave the data the
-//! kernels read with ids and materials needed only once per ray. Instead each type has
-//! a dense array of exactly what its kernel reads (`Sphere`: centre and radius;
-//! `Triangle`: three vertices; `Cone`: frame and radii) and a parallel array of "cold"
-//! data (input index, material, normals) read only for the final hit. A BVH reference is
-//! a `u32` holding a 2-bit type tag and a 30-bit index into its type's array. After the
-//! build the arrays are reordered into leaf order, so the primitives of a leaf are
-//! adjacent in memory, and a leaf's references are mostly of one type, so the dispatch
-//! branch predicts well.
+//! Primitive storage: one array per type, hot kernel data apart from cold hit data, and
+//! the typed `u32` references the BVH stores (the reasons are in the `geometry` module
+//! docs).
 
 use super::cone::Cone;
 use super::plane::Plane;
@@ -136,30 +126,60 @@ impl<T: Real> Prims<T> {
         }
     }
 
-    /// Conservative `f32` boxes of every BVH primitive, with their typed references.
-    pub fn build_prims(&self) -> Vec<BuildPrim> {
-        let mut out = Vec::with_capacity(self.bvh_len());
-        for (i, s) in self.spheres.iter().enumerate() {
-            let r = s.radius.to_f64();
-            let c: [f64; 3] = core::array::from_fn(|a| s.center[a].to_f64());
-            out.push(BuildPrim::new(padded::<T>(c.map(|x| x - r), c.map(|x| x + r)), make_ref(SPHERE, i)));
+    /// The `k`-th BVH primitive's reference: spheres, then triangles, then cones.
+    fn ref_at(&self, k: usize) -> u32 {
+        let (ns, nt) = (self.spheres.len(), self.triangles.len());
+        if k < ns {
+            make_ref(SPHERE, k)
+        } else if k < ns + nt {
+            make_ref(TRIANGLE, k - ns)
+        } else {
+            make_ref(CONE, k - ns - nt)
         }
-        for (i, t) in self.triangles.iter().enumerate() {
-            let mut lo = [f64::INFINITY; 3];
-            let mut hi = [f64::NEG_INFINITY; 3];
-            for v in &t.v {
-                for a in 0..3 {
-                    lo[a] = lo[a].min(v[a].to_f64());
-                    hi[a] = hi[a].max(v[a].to_f64());
-                }
+    }
+
+    /// Conservative `f32` bounds of a referenced primitive.
+    fn bounds_of(&self, r: u32) -> Bounds3 {
+        let i = (r & INDEX_MASK) as usize;
+        match r >> TAG_SHIFT {
+            SPHERE => {
+                let s = &self.spheres[i];
+                let r = s.radius.to_f64();
+                let c: [f64; 3] = core::array::from_fn(|a| s.center[a].to_f64());
+                padded::<T>(c.map(|x| x - r), c.map(|x| x + r))
             }
-            out.push(BuildPrim::new(padded::<T>(lo, hi), make_ref(TRIANGLE, i)));
+            TRIANGLE => {
+                let mut lo = [f64::INFINITY; 3];
+                let mut hi = [f64::NEG_INFINITY; 3];
+                for v in &self.triangles[i].v {
+                    for a in 0..3 {
+                        lo[a] = lo[a].min(v[a].to_f64());
+                        hi[a] = hi[a].max(v[a].to_f64());
+                    }
+                }
+                padded::<T>(lo, hi)
+            }
+            _ => {
+                let (lo, hi) = self.cones[i].bounds_f64();
+                padded::<T>(lo, hi)
+            }
         }
-        for (i, c) in self.cones.iter().enumerate() {
-            let (lo, hi) = c.bounds_f64();
-            out.push(BuildPrim::new(padded::<T>(lo, hi), make_ref(CONE, i)));
+    }
+
+    /// Conservative `f32` boxes of every BVH primitive, with their typed references, in
+    /// parallel for large scenes (the order is the same either way).
+    pub fn build_prims(&self, parallel: bool) -> Vec<BuildPrim> {
+        let n = self.bvh_len();
+        let make = |k: usize| {
+            let r = self.ref_at(k);
+            BuildPrim::new(self.bounds_of(r), r)
+        };
+        if parallel && n >= 1 << 14 {
+            use rayon::prelude::*;
+            (0..n).into_par_iter().map(make).collect()
+        } else {
+            (0..n).map(make).collect()
         }
-        out
     }
 
     /// Reorders the primitive arrays into the BVH's leaf order and points the BVH's
