@@ -6,6 +6,7 @@
 //! over the visible lights $l$, with $R = 2N(N \cdot L) - L$ the mirrored light direction.
 //! Escaping rays see the background colour.
 
+use crate::geometry::offset_ray;
 use crate::ray::{Hit, Ray};
 use crate::stats::RayCounts;
 use crate::world::Scene;
@@ -22,16 +23,6 @@ pub struct TraceLimits<T: Real> {
     pub threshold: T,
     /// SPD rules: transmitting surfaces spawn a reflection ray even when `Ks` is 0.
     pub spd: bool,
-}
-
-/// Offsets a ray origin off the surface along the face normal, by a distance that scales
-/// with the magnitude of the coordinates (a few hundred ULPs of the largest one), so the
-/// new ray does not re-hit the surface it starts on.
-#[inline]
-pub fn offset_origin<T: Real>(p: &Vec3<T>, n: &Vec3<T>) -> Vec3<T> {
-    let scale = p.abs().max_element().max(T::ONE);
-    let eps = scale * T::EPSILON * T::from_f64(512.0);
-    (p + n.scale(eps)).eval()
 }
 
 /// Traces `ray` at `depth` (1 for eye rays) with accumulated `weight`, returning its
@@ -80,7 +71,7 @@ pub fn shade<T: Real>(
     let mut color = (&m.color).scale(m.ka).eval();
 
     // Direct light with shadow rays.
-    let above = offset_origin(p, &ng);
+    let above = offset_ray(p, &ng, &ng);
     for light in &scene.lights {
         let to_light = (&light.position - p).eval();
         let dist = to_light.length();
@@ -123,8 +114,8 @@ pub fn shade<T: Real>(
         match d.refract(&ns, eta) {
             Some(t_dir) if wanted(weight * m.kt, limits) => {
                 counts.refraction += 1;
-                let below = offset_origin(p, &(-&ng).eval());
-                let r = Ray::new(below, t_dir.normalize());
+                let t_dir = t_dir.normalize();
+                let r = Ray::new(offset_ray(p, &ng, &t_dir), t_dir);
                 let c = trace(scene, &r, depth + 1, weight * m.kt, limits, counts);
                 color += (&c * &m.color).scale(m.kt);
             }
@@ -135,7 +126,8 @@ pub fn shade<T: Real>(
     let spawn_reflection = kr > T::ZERO || (limits.spd && m.kt > T::ZERO);
     if spawn_reflection && wanted(weight * kr, limits) {
         counts.reflection += 1;
-        let r = Ray::new(above, d.reflect(&ns).normalize());
+        let r_dir = d.reflect(&ns).normalize();
+        let r = Ray::new(offset_ray(p, &ng, &r_dir), r_dir);
         let c = trace(scene, &r, depth + 1, weight * kr, limits, counts);
         color += c.scale(kr);
     }

@@ -15,6 +15,10 @@
 //! exact in the cylinder case $k = 0$. Roots use the same stable $q$ form; $A = 0$ (a ray
 //! parallel to a generator line) leaves the single root $C/q$. Only $r(s) \ge 0$ occurs on
 //! $[0, h]$, so the mirrored nappe of the double cone is excluded by the range test.
+//!
+//! The quadratic is solved from the point of the ray's line closest to the middle of the
+//! axis rather than from the origin: a distant origin makes $\rho$ and $w_\perp$ large,
+//! and then the three terms of the discriminant cancel even with the identity above.
 
 use super::ray_data::RayData;
 use vecexpr::{Expr, Real, Vec3};
@@ -72,7 +76,14 @@ impl<T: Real> Cone<T> {
     #[inline(always)]
     pub(crate) fn intersect(&self, r: &RayData<T>, t_max: T) -> Option<T> {
         let k = self.slope;
-        let w = (r.origin - self.base).eval();
+        // Solve from the point of the ray's line closest to the middle of the axis, then
+        // add that point's parameter back: with a distant origin, $\rho = r_0 + k w_s$
+        // and $w_\perp$ are large and the terms of the discriminant cancel (the
+        // translation Haines et al. recommend for spheres, RTG ch. 7.2.3).
+        let w0 = (r.origin - self.base).eval();
+        let mid = (&self.axis).scale(self.height * <T as Real>::from_f64(0.5));
+        let t_c = (mid - &w0).dot(&r.dir) * r.inv_dd;
+        let w = (w0 + (&r.dir).scale(t_c)).eval();
         let ws = w.dot(&self.axis);
         let ds = r.dir.dot(&self.axis);
         let wp = (w - (&self.axis).scale(ws)).eval();
@@ -95,9 +106,10 @@ impl<T: Real> Cone<T> {
         let (t0, t1) = (q / a, c / q);
         // NaN/inf roots (a = 0 or q = 0) fail `accepts`.
         let (near, far) = if t1 < t0 { (t1, t0) } else { (t0, t1) };
-        for t in [near, far] {
+        for tl in [near, far] {
+            let t = t_c + tl;
             if r.accepts(t, t_max) {
-                let s = ws + t * ds;
+                let s = ws + tl * ds;
                 if s >= T::ZERO && s <= self.height {
                     return Some(t);
                 }
@@ -123,6 +135,25 @@ impl<T: Real> Cone<T> {
             tip
         } else {
             (-&r.dir).normalize()
+        }
+    }
+
+    /// The hit point `origin + t dir` projected back onto the surface: its radial part is
+    /// rescaled to the radius $r(s)$ at its axial coordinate, computed relative to the
+    /// base so that a distant origin's rounding does not stay in the point (as pbrt-v4
+    /// refines its cylinder hits). This is what lets [`super::offset_ray`] use an offset
+    /// relative to the point's own coordinates.
+    #[inline]
+    pub(crate) fn point(&self, r: &RayData<T>, t: T) -> Vec3<T> {
+        let rel = (r.origin - self.base + (&r.dir).scale(t)).eval();
+        let s = rel.dot(&self.axis);
+        let q = (rel - (&self.axis).scale(s)).eval();
+        let len = q.length();
+        let radius = self.base_radius + self.slope * s;
+        if len > T::ZERO && len.is_finite() && radius >= T::ZERO {
+            (self.base + (&self.axis).scale(s) + (&q).scale(radius / len)).eval()
+        } else {
+            (r.origin + (&r.dir).scale(t)).eval()
         }
     }
 

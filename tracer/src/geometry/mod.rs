@@ -44,6 +44,7 @@
 pub mod aabb;
 pub mod builder;
 pub mod cone;
+pub mod offset;
 pub mod plane;
 pub mod polygon;
 pub(crate) mod ray_data;
@@ -54,6 +55,7 @@ pub mod triangle;
 pub use aabb::Aabb;
 pub use builder::GeometryBuilder;
 pub use cone::Cone;
+pub use offset::offset_ray;
 pub use plane::Plane;
 pub use sphere::Sphere;
 pub use triangle::Triangle;
@@ -424,13 +426,13 @@ impl<T: Real> Geometry<T> {
             CONE => {
                 let info = &p.cone_info[i];
                 let n = flip(p.cones[i].normal(rd, b.t), info.inside_visible);
-                let point = (rd.origin + (&rd.dir).scale(b.t)).eval();
+                let point = p.cones[i].point(rd, b.t);
                 (point, n, n, info.prim_id, info.material)
             }
             _ => {
                 let info = &p.plane_info[i];
                 let n = p.planes[i].normal;
-                let point = (rd.origin + (&rd.dir).scale(b.t)).eval();
+                let point = p.planes[i].point(rd, b.t);
                 (point, n, n, info.prim_id, info.material)
             }
         };

@@ -31,6 +31,15 @@ impl<T: Real> Plane<T> {
         let t = (self.point - r.origin).dot(&self.normal) / denom;
         r.accepts(t, t_max).then_some(t)
     }
+
+    /// The hit point `origin + t dir` projected onto the plane, so that its error is
+    /// relative to the point's own coordinates, not to a distant ray origin.
+    #[inline]
+    pub(crate) fn point(&self, r: &RayData<T>, t: T) -> Vec3<T> {
+        let x = (r.origin + (&r.dir).scale(t)).eval();
+        let h = (x - self.point).dot(&self.normal);
+        (x - (&self.normal).scale(h)).eval()
+    }
 }
 
 #[cfg(test)]
