@@ -477,6 +477,8 @@ struct SelfHits {
     refraction_rehit: usize,
     /// A refraction ray that left a closed sphere without meeting its far side.
     refraction_escape: usize,
+    /// How far each reflection ray's origin was moved, over the object's size.
+    offsets: Vec<f64>,
 }
 
 impl SelfHits {
@@ -492,6 +494,9 @@ fn scaled_epsilon<T: Real>(p: &Vec3<T>, n: &Vec3<T>, _dir: &Vec3<T>) -> Vec3<T> 
     (p + n.scale(scale * T::EPSILON * T::from_f64(512.0))).eval()
 }
 
+/// A ray-origin offset: hit point, a geometric normal, the new ray's direction.
+type Offset<T> = fn(&Vec3<T>, &Vec3<T>, &Vec3<T>) -> Vec3<T>;
+
 /// Random points on random spheres, triangles and cylinders of scale $10^{-3}$ to $10^5$
 /// at up to $10^5$ from the origin (`max_ratio`: at most this many times the scale, to
 /// stay within what the precision can represent); from each, reflection, refraction
@@ -501,7 +506,7 @@ fn spawn_rays<T: Real>(
     configs: usize,
     per: usize,
     max_ratio: f64,
-    offset: fn(&Vec3<T>, &Vec3<T>, &Vec3<T>) -> Vec3<T>,
+    offset: Offset<T>,
     seed: u64,
 ) -> SelfHits {
     let mut rng = Rng(seed);
@@ -592,6 +597,7 @@ fn spawn_rays<T: Real>(
             // offset, the side of the new direction for `offset_ray`.
             let r_dir = d.reflect(&ng).normalize();
             let reflected = Ray::new(offset(&p, &ng, &r_dir), r_dir);
+            out.offsets.push(norm(sub(w(&reflected.origin), w(&p))) / s);
             if let Some(h2) = g.intersect(&reflected) {
                 out.reflection += 1;
                 if std::env::var_os("ROBUSTNESS_DEBUG").is_some() {
@@ -641,10 +647,16 @@ fn spawned_rays_never_rehit_their_surface() {
     let kinds = [Kind::Sphere, Kind::Triangle, Kind::Cylinder];
     let run = |name: &str, f: &dyn Fn(Kind, u64) -> SelfHits, assert_clean: bool| {
         for (i, &k) in kinds.iter().enumerate() {
-            let r = f(k, 1000 + i as u64);
+            let mut r = f(k, 1000 + i as u64);
+            r.offsets.sort_by(f64::total_cmp);
+            let (median, max) = (
+                r.offsets[r.offsets.len() / 2],
+                r.offsets[r.offsets.len() - 1],
+            );
             println!(
                 "self-intersection {name} {k:?}: {} points ({} primary misses, {} tangent): {} \
-                 reflection, {} shadow, {} refraction re-hits, {} refraction escapes",
+                 reflection, {} shadow, {} refraction re-hits, {} refraction escapes; offset / \
+                 size median {median:.1e}, max {max:.1e}",
                 r.points,
                 r.skipped,
                 r.tangent,
@@ -912,7 +924,7 @@ fn energy_is_never_created() {
         ] {
             for p in &img.pixels {
                 for &c in p {
-                    assert!(c.is_finite() && c >= 0.0 && c <= 1.0 + 1e-5, "{p:?}");
+                    assert!((0.0..=1.0 + 1e-5).contains(&c), "{p:?}");
                     max = max.max(c);
                 }
             }
@@ -1167,4 +1179,109 @@ fn f32_and_f64_agree_on_the_spd_scenes() {
         );
     }
     assert!(worst <= 0.05, "worst non-silhouette fraction {worst}");
+}
+
+/// Shadow rays from the eye-ray hits of every SPD size-1 scene (front faces, lights the
+/// surface faces) are never blocked by their own primitive; printed: how many are blocked
+/// by another one.
+#[test]
+fn spd_shadow_rays_never_hit_their_own_primitive() {
+    type T = f32;
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    let mut names: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.to_string_lossy().ends_with("-s1.nff"))
+        .collect();
+    names.sort();
+    for path in names {
+        let desc = tracer::scene::load(&path).unwrap();
+        let scene = Scene::<T>::from_desc(&desc, &AccelOptions::default());
+        let cam = scene.camera_for(128, 128);
+        let (mut lit, mut own, mut other) = (0usize, 0usize, 0usize);
+        for y in 0..128 {
+            for x in 0..128 {
+                let r = Ray::new(cam.position, cam.direction(x as T + 0.5, y as T + 0.5));
+                let Some(h) = scene.intersect(&r) else {
+                    continue;
+                };
+                let ng = h.geometric_normal;
+                if ng.dot(&r.dir) >= 0.0 {
+                    continue;
+                }
+                for l in &scene.lights {
+                    let to_light = (&l.position - &h.point).eval();
+                    let dist = to_light.length();
+                    let ldir = to_light.scale(dist.recip()).eval();
+                    if ng.dot(&ldir) <= 0.0 {
+                        continue;
+                    }
+                    lit += 1;
+                    let shadow = Ray {
+                        t_max: dist,
+                        ..Ray::new(offset_ray(&h.point, &ng, &ldir), ldir)
+                    };
+                    if let Some(b) = scene.intersect(&shadow) {
+                        if b.prim_id == h.prim_id {
+                            own += 1;
+                        } else {
+                            other += 1;
+                        }
+                    }
+                }
+            }
+        }
+        println!(
+            "shadow rays {} at 128x128: {lit} toward lights, {other} blocked by another \
+             primitive, {own} by their own",
+            path.file_name().unwrap().to_string_lossy()
+        );
+        assert_eq!(own, 0, "{}", path.display());
+    }
+}
+
+/// The golden images of `tests/render.rs` against an f64 render at the same size: pixels
+/// with a channel more than 2/255 off. `ROBUSTNESS_GOLDEN_DIR` compares another directory
+/// of PNGs instead (for instance an earlier revision's goldens), without asserting.
+#[test]
+fn golden_images_are_close_to_f64() {
+    let own = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/golden");
+    let other = std::env::var_os("ROBUSTNESS_GOLDEN_DIR").map(std::path::PathBuf::from);
+    let dir = other.clone().unwrap_or(own);
+    let scenes = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    for name in [
+        "balls-s1",
+        "gears-s1",
+        "mount-s1",
+        "rings-s1",
+        "teapot-s1",
+        "tetra-s1",
+        "tree-s1",
+        "showcase",
+    ] {
+        let Ok(golden) = Image::read_png(&dir.join(format!("{name}.png"))) else {
+            continue;
+        };
+        let desc = tracer::scene::load(&scenes.join(format!("{name}.nff"))).unwrap();
+        let s64 = Scene::<f64>::from_desc(&desc, &AccelOptions::default());
+        let settings = Settings {
+            width: Some(golden.width),
+            height: Some(golden.height),
+            ..Settings::default()
+        };
+        let (a, b) = (golden.to_rgb8(), render(&s64, &settings).to_rgb8());
+        let far = a
+            .chunks(3)
+            .zip(b.chunks(3))
+            .filter(|(p, q)| p.iter().zip(q.iter()).any(|(x, y)| x.abs_diff(*y) > 2))
+            .count();
+        let total = a.len() / 3;
+        println!(
+            "golden {name} ({}): {far} of {total} pixels more than 2/255 from f64",
+            dir.display()
+        );
+        if other.is_none() {
+            assert!(far * 50 <= total, "{name}: {far} of {total}");
+        }
+    }
 }

@@ -198,7 +198,7 @@ proptest! {
     fn cone_against_f64(base in point(), axis in direction(), h in log(1e-1, 1e2),
                         r0 in log(1e-2, 1e1), r1f in 0.0f64..2.0, cyl in any::<bool>(),
                         u in direction(), k in log(1.5, 100.0), dd in direction(),
-                        aim in any::<bool>(), s_aim in 0.0f64..1.0, phi in 0.0f64..6.283) {
+                        aim in any::<bool>(), s_aim in 0.0f64..1.0, phi in 0.0f64..std::f64::consts::TAU) {
         let ax = unit(axis);
         let base = r32(base);
         let apex = r32(add(base, scale(ax, h)));

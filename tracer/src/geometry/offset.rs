@@ -78,7 +78,7 @@ pub fn offset_ray<T: Real>(p: &Vec3<T>, n: &Vec3<T>, dir: &Vec3<T>) -> Vec3<T> {
     let mut out = *p;
     for i in 0..3 {
         let (x, ni) = (p[i], side * n[i]);
-        out[i] = if !(x.abs() >= origin) || !x.is_finite() || !ni.is_finite() {
+        out[i] = if x.abs() < origin || !x.is_finite() || !ni.is_finite() {
             // Near zero (or NaN/inf: arithmetic keeps it non-finite).
             x + float_scale * ni
         } else {
