@@ -126,7 +126,7 @@ impl EffectSet {
         let lit = scene
             .lights
             .iter()
-            .any(|l| !(l.intensity.max_element() <= T::ZERO));
+            .any(|l| not_at_most_zero(l.intensity.max_element()));
         let any = |f: fn(&crate::Material<T>) -> bool| scene.materials.iter().any(f);
         let specular = any(|m| m.ks > T::ZERO);
         let transmits = any(|m| m.kt > T::ZERO);
@@ -143,7 +143,7 @@ impl EffectSet {
         set(secondary && transmits, REFRACTION);
         set(!settings.spd && settings.aa > 1, SUPERSAMPLING);
         set(
-            secondary && (specular || transmits) && !(limits.threshold <= T::ZERO),
+            secondary && (specular || transmits) && not_at_most_zero(limits.threshold),
             ADAPTIVE,
         );
         Self(bits)
@@ -162,6 +162,12 @@ impl EffectSet {
     pub fn is_general(self) -> bool {
         self.0 == ALL
     }
+}
+
+/// `!(x <= 0)`: positive or NaN, the cases in which the shading code's `x <= 0` tests
+/// do not skip.
+fn not_at_most_zero<T: Real>(x: T) -> bool {
+    x.is_nan() || x > T::ZERO
 }
 
 impl Serialize for EffectSet {

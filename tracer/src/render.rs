@@ -103,13 +103,29 @@ pub fn render<T: Real>(scene: &Scene<T>, settings: &Settings) -> Image {
 /// # Panics
 /// If a thread pool with the requested number of threads cannot be created.
 pub fn render_with_stats<T: Real>(scene: &Scene<T>, settings: &Settings) -> (Image, RenderStats) {
-    let choice = EffectChoice::new(settings.effects, EffectSet::required(scene, settings));
+    let required = EffectSet::required(scene, settings);
+    let mode = if specialised::<T>() {
+        settings.effects
+    } else {
+        EffectsMode::All
+    };
+    let choice = EffectChoice {
+        mode: settings.effects,
+        ..EffectChoice::new(mode, required)
+    };
     render_choice(scene, settings, choice)
 }
 
-/// Renders `scene` with the renderer compiled for `renderer`, the instance of
-/// [`effects::INSTANCES`] chosen for it in `auto` mode or the general one if it is not
-/// in the table.
+/// Does precision `T` have the specialised renderers of [`effects::INSTANCES`]? Only
+/// `f32`, the default: `f64`, the reference precision, always runs the general renderer,
+/// which halves the number of renderers compiled.
+pub fn specialised<T: Real>() -> bool {
+    core::any::TypeId::of::<T>() == core::any::TypeId::of::<f32>()
+}
+
+/// Renders `scene` with the renderer compiled for `renderer`: the instance of
+/// [`effects::INSTANCES`] chosen for it in `auto` mode, or the general one if it is not
+/// in the table or `T` has no specialised renderers ([`specialised`]).
 ///
 /// # Panics
 /// If `renderer` lacks an effect the scene and settings need
@@ -126,7 +142,7 @@ pub fn render_with_effects<T: Real>(
         renderer.names(),
         required.names()
     );
-    let renderer = if effects::INSTANCES.contains(&renderer.bits()) {
+    let renderer = if specialised::<T>() && effects::INSTANCES.contains(&renderer.bits()) {
         renderer
     } else {
         EffectSet::ALL
@@ -156,6 +172,13 @@ impl<T: Real> EffectFn<(Image, RayCounts)> for Renderer<'_, T> {
     }
 }
 
+/// The `f32` renderers, dispatched on `set`. Not generic, so compiled once, in this
+/// crate.
+#[inline(never)]
+fn render_f32(scene: &Scene<f32>, settings: &Settings, set: EffectSet) -> (Image, RayCounts) {
+    effects::dispatch(set, Renderer { scene, settings })
+}
+
 fn render_choice<T: Real>(
     scene: &Scene<T>,
     settings: &Settings,
@@ -163,7 +186,11 @@ fn render_choice<T: Real>(
 ) -> (Image, RenderStats) {
     let run = || {
         let start = Instant::now();
-        let (image, rays) = effects::dispatch(choice.renderer, Renderer { scene, settings });
+        let any: &dyn core::any::Any = scene;
+        let (image, rays) = match any.downcast_ref::<Scene<f32>>() {
+            Some(scene) => render_f32(scene, settings, choice.renderer),
+            None => Renderer { scene, settings }.call::<{ effects::ALL }>(),
+        };
         let trace_ms = start.elapsed().as_secs_f64() * 1e3;
         (
             image,

@@ -326,12 +326,16 @@ impl<T: Real> Geometry<T> {
     /// [`kinds`] mask, other bits ignored), which must contain [`Geometry::kinds`]:
     /// the other kinds' tests and the type dispatch, when one kind remains, are left
     /// out. The result is the same as `intersect`'s.
+    ///
+    /// Only the default watertight triangle test is specialised; with Möller–Trumbore
+    /// every `KINDS` calls one shared, out-of-line all-kinds query, so each kind set
+    /// adds one copy of the traversal, not two.
     #[inline]
     pub fn intersect_kinds<const KINDS: u32>(&self, ray: &Ray<T>) -> Option<Hit<T>> {
         debug_assert_eq!(self.kinds() & !KINDS, 0, "primitive kinds left out");
         match self.triangle_test {
             TriangleTest::Watertight => self.closest::<true, KINDS>(ray),
-            TriangleTest::MollerTrumbore => self.closest::<false, KINDS>(ray),
+            TriangleTest::MollerTrumbore => self.closest_moller_trumbore(ray),
         }
     }
 
@@ -342,8 +346,18 @@ impl<T: Real> Geometry<T> {
         debug_assert_eq!(self.kinds() & !KINDS, 0, "primitive kinds left out");
         match self.triangle_test {
             TriangleTest::Watertight => self.any::<true, KINDS>(ray),
-            TriangleTest::MollerTrumbore => self.any::<false, KINDS>(ray),
+            TriangleTest::MollerTrumbore => self.any_moller_trumbore(ray),
         }
+    }
+
+    #[inline(never)]
+    fn closest_moller_trumbore(&self, ray: &Ray<T>) -> Option<Hit<T>> {
+        self.closest::<false, { kinds::ALL }>(ray)
+    }
+
+    #[inline(never)]
+    fn any_moller_trumbore(&self, ray: &Ray<T>) -> bool {
+        self.any::<false, { kinds::ALL }>(ray)
     }
 
     /// Tests one primitive for a hit with $t \in (t_{min}, t_{max}]$.
