@@ -27,6 +27,7 @@
 
 pub mod bvh;
 pub mod camera;
+pub mod effects;
 pub mod geometry;
 pub mod image;
 pub mod ray;

@@ -8,6 +8,7 @@ use serde_json::json;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
+use tracer::effects::EffectsMode;
 use tracer::geometry::AccelOptions;
 use tracer::render::{render_with_stats, Settings};
 use tracer::scene::{self, desc::SceneDesc};
@@ -35,6 +36,14 @@ enum Command {
 enum Precision {
     F32,
     F64,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum Effects {
+    /// The renderer specialised for the effects the scene needs.
+    Auto,
+    /// The general renderer (same image, for comparison).
+    All,
 }
 
 #[derive(clap::Args, Debug)]
@@ -71,6 +80,9 @@ struct RenderArgs {
     /// Write statistics (times, ray counts, primitives, BVH, settings) as JSON.
     #[arg(long, value_name = "STATS.json")]
     stats: Option<PathBuf>,
+    /// Which renderer: specialised for the scene's effects (auto) or general (all).
+    #[arg(long, value_enum, default_value_t = Effects::Auto)]
+    effects: Effects,
     /// Trace without the BVH (brute force), for comparison.
     #[arg(long)]
     no_bvh: bool,
@@ -170,6 +182,10 @@ fn run_render(args: &RenderArgs) -> Result<(), String> {
         threads: args.threads.map(|t| t as usize),
         spd: args.spd,
         progress: true,
+        effects: match args.effects {
+            Effects::Auto => EffectsMode::Auto,
+            Effects::All => EffectsMode::All,
+        },
     };
     let accel = AccelOptions {
         use_bvh: !args.no_bvh,
@@ -208,6 +224,7 @@ fn render_in<T: Real>(
             "scene": args.scene.display().to_string(),
             "times_ms": { "parse": parse_ms, "build": build_ms, "trace": stats.trace_ms, "total": total_ms },
             "rays": stats.rays,
+            "effects": stats.effects,
             "primitives": {
                 "sphere": g.spheres, "triangle": g.triangles, "polygon": g.polygons,
                 "patch": g.patches, "cone": g.cones,
@@ -221,7 +238,7 @@ fn render_in<T: Real>(
                 "threshold": if settings.spd { 0.0 } else { settings.threshold },
                 "threads": settings.threads.unwrap_or_else(rayon::current_num_threads),
                 "precision": if std::mem::size_of::<T>() == 4 { "f32" } else { "f64" },
-                "spd": settings.spd, "bvh": accel.use_bvh,
+                "spd": settings.spd, "bvh": accel.use_bvh, "effects": settings.effects.name(),
                 "output": args.output.display().to_string(),
             },
         });

@@ -4,9 +4,10 @@
 //! sequential code whatever thread runs it, and ray counts are summed as integers, so the
 //! image and the statistics are identical bit for bit for any thread count.
 
+use crate::effects::{self, has, EffectChoice, EffectFn, EffectSet, EffectsMode, SUPERSAMPLING};
 use crate::image::Image;
 use crate::ray::Ray;
-use crate::shade::{trace, TraceLimits};
+use crate::shade::{trace_fx, TraceLimits};
 use crate::stats::RayCounts;
 use crate::world::Scene;
 use rayon::prelude::*;
@@ -35,6 +36,9 @@ pub struct Settings {
     pub spd: bool,
     /// Show a progress bar on a terminal.
     pub progress: bool,
+    /// The renderer specialised for the scene's effects, or the general one (the image
+    /// is the same).
+    pub effects: EffectsMode,
 }
 
 impl Default for Settings {
@@ -48,6 +52,7 @@ impl Default for Settings {
             threads: None,
             spd: false,
             progress: false,
+            effects: EffectsMode::Auto,
         }
     }
 }
@@ -84,6 +89,8 @@ pub struct RenderStats {
     pub rays: RayCounts,
     /// Wall-clock tracing time in milliseconds.
     pub trace_ms: f64,
+    /// The effects needed and the renderer that ran.
+    pub effects: EffectChoice,
 }
 
 /// Renders `scene` with `settings`.
@@ -96,15 +103,103 @@ pub fn render<T: Real>(scene: &Scene<T>, settings: &Settings) -> Image {
 /// # Panics
 /// If a thread pool with the requested number of threads cannot be created.
 pub fn render_with_stats<T: Real>(scene: &Scene<T>, settings: &Settings) -> (Image, RenderStats) {
+    let required = EffectSet::required(scene, settings);
+    let mode = if specialised::<T>() {
+        settings.effects
+    } else {
+        EffectsMode::All
+    };
+    let choice = EffectChoice {
+        mode: settings.effects,
+        ..EffectChoice::new(mode, required)
+    };
+    render_choice(scene, settings, choice)
+}
+
+/// Does precision `T` have the specialised renderers of [`effects::INSTANCES`]? Only
+/// `f32`, the default: `f64`, the reference precision, always runs the general renderer,
+/// which halves the number of renderers compiled.
+pub fn specialised<T: Real>() -> bool {
+    core::any::TypeId::of::<T>() == core::any::TypeId::of::<f32>()
+}
+
+/// Renders `scene` with the renderer compiled for `renderer`: the instance of
+/// [`effects::INSTANCES`] chosen for it in `auto` mode, or the general one if it is not
+/// in the table or `T` has no specialised renderers ([`specialised`]).
+///
+/// # Panics
+/// If `renderer` lacks an effect the scene and settings need
+/// ([`EffectSet::required`]), or as [`render_with_stats`].
+pub fn render_with_effects<T: Real>(
+    scene: &Scene<T>,
+    settings: &Settings,
+    renderer: EffectSet,
+) -> (Image, RenderStats) {
+    let required = EffectSet::required(scene, settings);
+    assert!(
+        renderer.contains(required),
+        "the renderer for {:?} cannot render a scene that needs {:?}",
+        renderer.names(),
+        required.names()
+    );
+    let renderer = if specialised::<T>() && effects::INSTANCES.contains(&renderer.bits()) {
+        renderer
+    } else {
+        EffectSet::ALL
+    };
+    let choice = EffectChoice {
+        mode: settings.effects,
+        required,
+        renderer,
+        general: renderer.is_general(),
+    };
+    render_choice(scene, settings, choice)
+}
+
+/// One monomorphised renderer, called through [`effects::dispatch`].
+struct Renderer<'a, T: Real> {
+    scene: &'a Scene<T>,
+    settings: &'a Settings,
+}
+
+impl<T: Real> EffectFn<(Image, RayCounts)> for Renderer<'_, T> {
+    fn call<const FX: u32>(self) -> (Image, RayCounts) {
+        if self.settings.spd {
+            render_corners::<T, FX>(self.scene, self.settings)
+        } else {
+            render_grid::<T, FX>(self.scene, self.settings)
+        }
+    }
+}
+
+/// The `f32` renderers, dispatched on `set`. Not generic, so compiled once, in this
+/// crate.
+#[inline(never)]
+fn render_f32(scene: &Scene<f32>, settings: &Settings, set: EffectSet) -> (Image, RayCounts) {
+    effects::dispatch(set, Renderer { scene, settings })
+}
+
+fn render_choice<T: Real>(
+    scene: &Scene<T>,
+    settings: &Settings,
+    choice: EffectChoice,
+) -> (Image, RenderStats) {
     let run = || {
         let start = Instant::now();
-        let (image, rays) = if settings.spd {
-            render_corners(scene, settings)
-        } else {
-            render_grid(scene, settings)
+        let any: &dyn core::any::Any = scene;
+        let (image, rays) = match any.downcast_ref::<Scene<f32>>() {
+            Some(scene) => render_f32(scene, settings, choice.renderer),
+            None => Renderer { scene, settings }.call::<{ effects::ALL }>(),
         };
         let trace_ms = start.elapsed().as_secs_f64() * 1e3;
-        (image, RenderStats { rays, trace_ms })
+        (
+            image,
+            RenderStats {
+                rays,
+                trace_ms,
+                effects: choice,
+            },
+        )
     };
     match settings.threads {
         Some(n) => rayon::ThreadPoolBuilder::new()
@@ -134,7 +229,7 @@ fn progress_bar(settings: &Settings, rows: u64) -> indicatif::ProgressBar {
 
 /// Radiance of the eye ray through image-plane point `(px, py)`.
 #[inline]
-fn eye_sample<T: Real>(
+fn eye_sample<T: Real, const FX: u32>(
     scene: &Scene<T>,
     cam: &crate::Camera<T>,
     px: T,
@@ -144,7 +239,7 @@ fn eye_sample<T: Real>(
 ) -> Vec3<T> {
     counts.eye += 1;
     let ray = Ray::new(cam.position, cam.direction(px, py));
-    trace(scene, &ray, 1, T::ONE, limits, counts)
+    trace_fx::<T, FX>(scene, &ray, 1, T::ONE, limits, counts)
 }
 
 fn to_rgb<T: Real>(c: &Vec3<T>) -> [f32; 3] {
@@ -156,7 +251,10 @@ fn to_rgb<T: Real>(c: &Vec3<T>) -> [f32; 3] {
 }
 
 /// An `aa` x `aa` grid of rays per pixel, averaged.
-fn render_grid<T: Real>(scene: &Scene<T>, settings: &Settings) -> (Image, RayCounts) {
+fn render_grid<T: Real, const FX: u32>(
+    scene: &Scene<T>,
+    settings: &Settings,
+) -> (Image, RayCounts) {
     let (w, h) = settings.size(scene);
     let cam = scene.camera_for(w, h);
     let limits = settings.limits::<T>();
@@ -173,13 +271,23 @@ fn render_grid<T: Real>(scene: &Scene<T>, settings: &Settings) -> (Image, RayCou
             let mut counts = RayCounts::default();
             for (x, px) in row.iter_mut().enumerate() {
                 let mut sum = vec3(T::ZERO, T::ZERO, T::ZERO);
+                if !has(FX, SUPERSAMPLING) {
+                    // One ray through the centre: the a = 1 case below without its
+                    // exact multiplications by 1 (adding to zero is kept, as it turns
+                    // a -0 into +0 there).
+                    let half = T::from_f64(0.5);
+                    let (sx, sy) = (T::from_f64(x as f64) + half, T::from_f64(y as f64) + half);
+                    sum += eye_sample::<T, FX>(scene, &cam, sx, sy, &limits, &mut counts);
+                    *px = to_rgb(&sum);
+                    continue;
+                }
                 for j in 0..a {
                     let sy =
                         T::from_f64(y as f64) + (T::from_f64(j as f64) + T::from_f64(0.5)) * inv_a;
                     for i in 0..a {
                         let sx = T::from_f64(x as f64)
                             + (T::from_f64(i as f64) + T::from_f64(0.5)) * inv_a;
-                        sum += eye_sample(scene, &cam, sx, sy, &limits, &mut counts);
+                        sum += eye_sample::<T, FX>(scene, &cam, sx, sy, &limits, &mut counts);
                     }
                 }
                 *px = to_rgb(&sum.scale(norm).eval());
@@ -193,7 +301,10 @@ fn render_grid<T: Real>(scene: &Scene<T>, settings: &Settings) -> (Image, RayCou
 }
 
 /// SPD mode: one ray through every pixel corner, each pixel the mean of its four.
-fn render_corners<T: Real>(scene: &Scene<T>, settings: &Settings) -> (Image, RayCounts) {
+fn render_corners<T: Real, const FX: u32>(
+    scene: &Scene<T>,
+    settings: &Settings,
+) -> (Image, RayCounts) {
     let (w, h) = settings.size(scene);
     let cam = scene.camera_for(w, h);
     let limits = settings.limits::<T>();
@@ -206,7 +317,7 @@ fn render_corners<T: Real>(scene: &Scene<T>, settings: &Settings) -> (Image, Ray
         .map(|(y, row)| {
             let mut counts = RayCounts::default();
             for (x, c) in row.iter_mut().enumerate() {
-                *c = eye_sample(
+                *c = eye_sample::<T, FX>(
                     scene,
                     &cam,
                     T::from_f64(x as f64),

@@ -6,6 +6,7 @@
 //! over the visible lights $l$, with $R = 2N(N \cdot L) - L$ the mirrored light direction.
 //! Escaping rays see the background colour.
 
+use crate::effects::{self, has, ADAPTIVE, REFLECTION, REFRACTION, SHADOWS, SPECULAR};
 use crate::geometry::offset_ray;
 use crate::ray::{Hit, Ray};
 use crate::stats::RayCounts;
@@ -26,7 +27,8 @@ pub struct TraceLimits<T: Real> {
 }
 
 /// Traces `ray` at `depth` (1 for eye rays) with accumulated `weight`, returning its
-/// radiance and counting the secondary rays it spawns.
+/// radiance and counting the secondary rays it spawns. The general instance of
+/// [`trace_fx`].
 pub fn trace<T: Real>(
     scene: &Scene<T>,
     ray: &Ray<T>,
@@ -35,15 +37,47 @@ pub fn trace<T: Real>(
     limits: &TraceLimits<T>,
     counts: &mut RayCounts,
 ) -> Vec3<T> {
-    match scene.intersect(ray) {
-        Some(hit) => shade(scene, ray, &hit, depth, weight, limits, counts),
+    trace_fx::<T, { effects::ALL }>(scene, ray, depth, weight, limits, counts)
+}
+
+/// Local illumination plus the recursive terms at `hit`: the general instance of
+/// [`shade_fx`].
+#[allow(clippy::too_many_arguments)]
+pub fn shade<T: Real>(
+    scene: &Scene<T>,
+    ray: &Ray<T>,
+    hit: &Hit<T>,
+    depth: u32,
+    weight: T,
+    limits: &TraceLimits<T>,
+    counts: &mut RayCounts,
+) -> Vec3<T> {
+    shade_fx::<T, { effects::ALL }>(scene, ray, hit, depth, weight, limits, counts)
+}
+
+/// [`trace`] compiled for the effect set `FX` (see [`crate::effects`]), which must
+/// contain the effects the scene and `limits` need
+/// ([`crate::effects::EffectSet::required`]); it then returns what `trace` returns, bit
+/// for bit, and counts the same rays.
+pub fn trace_fx<T: Real, const FX: u32>(
+    scene: &Scene<T>,
+    ray: &Ray<T>,
+    depth: u32,
+    weight: T,
+    limits: &TraceLimits<T>,
+    counts: &mut RayCounts,
+) -> Vec3<T> {
+    match scene.intersect_kinds::<FX>(ray) {
+        Some(hit) => shade_fx::<T, FX>(scene, ray, &hit, depth, weight, limits, counts),
         None => scene.background,
     }
 }
 
-/// Local illumination plus the recursive terms at `hit`.
+/// [`shade`] compiled for the effect set `FX`, under the contract of [`trace_fx`]: the
+/// light loop, the highlight, the reflection and the refraction ray are only compiled
+/// in when `FX` has them.
 #[allow(clippy::too_many_arguments)]
-pub fn shade<T: Real>(
+pub fn shade_fx<T: Real, const FX: u32>(
     scene: &Scene<T>,
     ray: &Ray<T>,
     hit: &Hit<T>,
@@ -72,51 +106,57 @@ pub fn shade<T: Real>(
 
     // Direct light with shadow rays.
     let above = offset_ray(p, &ng, &ng);
-    for light in &scene.lights {
-        let to_light = (&light.position - p).eval();
-        let dist = to_light.length();
-        if dist.is_nan() || dist <= T::ZERO {
-            continue;
-        }
-        let l = (&to_light).scale(dist.recip()).eval();
-        // No shadow ray toward a light behind the surface or without intensity.
-        if ng.dot(&l) <= T::ZERO || light.intensity.max_element() <= T::ZERO {
-            continue;
-        }
-        counts.shadow += 1;
-        let shadow = Ray::new(above, l);
-        if scene.occluded(&shadow, dist) {
-            continue;
-        }
-        let ndotl = ns.dot(&l).max(T::ZERO);
-        if m.kd > T::ZERO && ndotl > T::ZERO {
-            color += (&m.color * &light.intensity).scale(m.kd * ndotl);
-        }
-        if m.ks > T::ZERO {
-            // R = 2 N (N·L) - L, the mirror direction of the light.
-            let r = (-&l).reflect(&ns);
-            let rv = r.dot(&v);
-            if rv > T::ZERO {
-                color += (&light.intensity).scale(m.ks * rv.powf(m.shine));
+    if has(FX, SHADOWS) {
+        for light in &scene.lights {
+            // No shadow ray toward a light without intensity...
+            if light.intensity.max_element() <= T::ZERO {
+                continue;
+            }
+            let to_light = (&light.position - p).eval();
+            let dist = to_light.length();
+            if dist.is_nan() || dist <= T::ZERO {
+                continue;
+            }
+            let l = (&to_light).scale(dist.recip()).eval();
+            // ... or behind the surface.
+            if ng.dot(&l) <= T::ZERO {
+                continue;
+            }
+            counts.shadow += 1;
+            let shadow = Ray::new(above, l);
+            if scene.occluded_kinds::<FX>(&shadow, dist) {
+                continue;
+            }
+            let ndotl = ns.dot(&l).max(T::ZERO);
+            if m.kd > T::ZERO && ndotl > T::ZERO {
+                color += (&m.color * &light.intensity).scale(m.kd * ndotl);
+            }
+            if has(FX, SPECULAR) && m.ks > T::ZERO {
+                // R = 2 N (N·L) - L, the mirror direction of the light.
+                let r = (-&l).reflect(&ns);
+                let rv = r.dot(&v);
+                if rv > T::ZERO {
+                    color += (&light.intensity).scale(m.ks * rv.powf(m.shine));
+                }
             }
         }
     }
 
-    if depth >= limits.max_depth {
+    if !has(FX, REFLECTION | REFRACTION) || depth >= limits.max_depth {
         return color;
     }
 
     // Secondary rays: refraction first, since total internal reflection moves its weight
     // to the reflection ray.
     let mut kr = m.ks;
-    if m.kt > T::ZERO {
+    if has(FX, REFRACTION) && m.kt > T::ZERO {
         let eta = if entering { m.ior.recip() } else { m.ior };
         match d.refract(&ns, eta) {
-            Some(t_dir) if wanted(weight * m.kt, limits) => {
+            Some(t_dir) if wanted::<T, FX>(weight * m.kt, limits) => {
                 counts.refraction += 1;
                 let t_dir = t_dir.normalize();
                 let r = Ray::new(offset_ray(p, &ng, &t_dir), t_dir);
-                let c = trace(scene, &r, depth + 1, weight * m.kt, limits, counts);
+                let c = trace_fx::<T, FX>(scene, &r, depth + 1, weight * m.kt, limits, counts);
                 color += (&c * &m.color).scale(m.kt);
             }
             Some(_) => {}
@@ -124,17 +164,19 @@ pub fn shade<T: Real>(
         }
     }
     let spawn_reflection = kr > T::ZERO || (limits.spd && m.kt > T::ZERO);
-    if spawn_reflection && wanted(weight * kr, limits) {
+    if has(FX, REFLECTION) && spawn_reflection && wanted::<T, FX>(weight * kr, limits) {
         counts.reflection += 1;
         let r_dir = d.reflect(&ns).normalize();
         let r = Ray::new(offset_ray(p, &ng, &r_dir), r_dir);
-        let c = trace(scene, &r, depth + 1, weight * kr, limits, counts);
+        let c = trace_fx::<T, FX>(scene, &r, depth + 1, weight * kr, limits, counts);
         color += c.scale(kr);
     }
     color
 }
 
+/// Is a secondary ray of accumulated weight `w` worth tracing? Always, without adaptive
+/// termination in `FX`.
 #[inline]
-fn wanted<T: Real>(w: T, limits: &TraceLimits<T>) -> bool {
-    limits.threshold <= T::ZERO || w >= limits.threshold
+fn wanted<T: Real, const FX: u32>(w: T, limits: &TraceLimits<T>) -> bool {
+    !has(FX, ADAPTIVE) || limits.threshold <= T::ZERO || w >= limits.threshold
 }

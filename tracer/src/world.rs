@@ -167,6 +167,20 @@ impl<T: Real> Scene<T> {
         self.geometry.occluded(&r)
     }
 
+    /// [`Scene::intersect`] compiled for the primitive kinds in `KINDS` (see
+    /// [`Geometry::intersect_kinds`]).
+    #[inline]
+    pub fn intersect_kinds<const KINDS: u32>(&self, ray: &Ray<T>) -> Option<Hit<T>> {
+        self.geometry.intersect_kinds::<KINDS>(ray)
+    }
+
+    /// [`Scene::occluded`] compiled for the primitive kinds in `KINDS`.
+    #[inline]
+    pub fn occluded_kinds<const KINDS: u32>(&self, ray: &Ray<T>, t_max: T) -> bool {
+        let r = Ray { t_max, ..*ray };
+        self.geometry.occluded_kinds::<KINDS>(&r)
+    }
+
     /// The camera for an image of `width` x `height`.
     pub fn camera_for(&self, width: u32, height: u32) -> Camera<T> {
         Camera::new(&self.camera, width, height)

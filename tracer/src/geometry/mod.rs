@@ -68,6 +68,42 @@ use std::time::Instant;
 use storage::{make_ref, Prims, CONE, INDEX_MASK, NO_SHADING, PLANE, SPHERE, TAG_SHIFT, TRIANGLE};
 use vecexpr::{Expr, Real, Vec3};
 
+/// Bit masks naming primitive kinds, for the `KINDS` parameter of
+/// [`Geometry::intersect_kinds`] and [`Geometry::occluded_kinds`]. Kind `k`'s bit is
+/// `1 << tag` of its references; bits above [`kinds::ALL`] are ignored, so a larger
+/// mask (such as an effect set) can be passed as it is.
+pub mod kinds {
+    /// Spheres.
+    pub const SPHERES: u32 = 1 << super::SPHERE;
+    /// Triangles (polygons, patches, meshes).
+    pub const TRIANGLES: u32 = 1 << super::TRIANGLE;
+    /// Cones and cylinders.
+    pub const CONES: u32 = 1 << super::CONE;
+    /// Infinite planes.
+    pub const PLANES: u32 = 1 << super::PLANE;
+    /// Every kind.
+    pub const ALL: u32 = SPHERES | TRIANGLES | CONES | PLANES;
+}
+
+/// The tag of reference `r` when it can only be one of the kinds in `KINDS`: a constant
+/// when there is one kind, so the type dispatch disappears.
+#[inline(always)]
+const fn tag_of<const KINDS: u32>(r: u32) -> u32 {
+    match KINDS & kinds::ALL {
+        kinds::SPHERES => SPHERE,
+        kinds::TRIANGLES => TRIANGLE,
+        kinds::CONES => CONE,
+        kinds::PLANES => PLANE,
+        _ => r >> TAG_SHIFT,
+    }
+}
+
+/// Is the kind with reference tag `tag` in `KINDS`? (Folds to a constant.)
+#[inline(always)]
+const fn kind_in<const KINDS: u32>(tag: u32) -> bool {
+    KINDS & (1 << tag) != 0
+}
+
 /// Which ray/triangle test to use.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum TriangleTest {
@@ -250,6 +286,16 @@ impl<T: Real> Geometry<T> {
         &self.stats
     }
 
+    /// The primitive kinds present, as a [`kinds`] mask.
+    pub fn kinds(&self) -> u32 {
+        let p = &self.prims;
+        let bit = |n: usize, k: u32| if n > 0 { k } else { 0 };
+        bit(p.spheres.len(), kinds::SPHERES)
+            | bit(p.triangles.len(), kinds::TRIANGLES)
+            | bit(p.cones.len(), kinds::CONES)
+            | bit(p.planes.len(), kinds::PLANES)
+    }
+
     /// Conservative bounds of all bounded primitives (planes excluded); empty if none.
     pub fn bounds(&self) -> Aabb<T> {
         self.bounds
@@ -269,31 +315,68 @@ impl<T: Real> Geometry<T> {
     /// rays: non-finite origin or direction, zero direction, NaN bounds).
     #[inline]
     pub fn intersect(&self, ray: &Ray<T>) -> Option<Hit<T>> {
-        match self.triangle_test {
-            TriangleTest::Watertight => self.closest::<true>(ray),
-            TriangleTest::MollerTrumbore => self.closest::<false>(ray),
-        }
+        self.intersect_kinds::<{ kinds::ALL }>(ray)
     }
 
     /// Is anything hit with $t \in (t_{min}, t_{max})$? Stops at the first hit found.
     #[inline]
     pub fn occluded(&self, ray: &Ray<T>) -> bool {
+        self.occluded_kinds::<{ kinds::ALL }>(ray)
+    }
+
+    /// [`Geometry::intersect`] compiled for the primitive kinds in `KINDS` only (a
+    /// [`kinds`] mask, other bits ignored), which must contain [`Geometry::kinds`]:
+    /// the other kinds' tests and the type dispatch, when one kind remains, are left
+    /// out. The result is the same as `intersect`'s.
+    ///
+    /// Only the default watertight triangle test is specialised; with Möller–Trumbore
+    /// every `KINDS` calls one shared, out-of-line all-kinds query, so each kind set
+    /// adds one copy of the traversal, not two.
+    #[inline]
+    pub fn intersect_kinds<const KINDS: u32>(&self, ray: &Ray<T>) -> Option<Hit<T>> {
+        debug_assert_eq!(self.kinds() & !KINDS, 0, "primitive kinds left out");
         match self.triangle_test {
-            TriangleTest::Watertight => self.any::<true>(ray),
-            TriangleTest::MollerTrumbore => self.any::<false>(ray),
+            TriangleTest::Watertight => self.closest::<true, KINDS>(ray),
+            TriangleTest::MollerTrumbore => self.closest_moller_trumbore(ray),
         }
+    }
+
+    /// [`Geometry::occluded`] compiled for the primitive kinds in `KINDS` only, as for
+    /// [`Geometry::intersect_kinds`].
+    #[inline]
+    pub fn occluded_kinds<const KINDS: u32>(&self, ray: &Ray<T>) -> bool {
+        debug_assert_eq!(self.kinds() & !KINDS, 0, "primitive kinds left out");
+        match self.triangle_test {
+            TriangleTest::Watertight => self.any::<true, KINDS>(ray),
+            TriangleTest::MollerTrumbore => self.any_moller_trumbore(ray),
+        }
+    }
+
+    #[inline(never)]
+    fn closest_moller_trumbore(&self, ray: &Ray<T>) -> Option<Hit<T>> {
+        self.closest::<false, { kinds::ALL }>(ray)
+    }
+
+    #[inline(never)]
+    fn any_moller_trumbore(&self, ray: &Ray<T>) -> bool {
+        self.any::<false, { kinds::ALL }>(ray)
     }
 
     /// Tests one primitive for a hit with $t \in (t_{min}, t_{max}]$.
     #[inline(always)]
-    fn test<const WATERTIGHT: bool>(&self, r: u32, rd: &RayData<T>, t_max: T) -> Option<(T, T, T)> {
+    fn test<const WATERTIGHT: bool, const KINDS: u32>(
+        &self,
+        r: u32,
+        rd: &RayData<T>,
+        t_max: T,
+    ) -> Option<(T, T, T)> {
         let i = (r & INDEX_MASK) as usize;
         let zero = T::ZERO;
-        match r >> TAG_SHIFT {
-            SPHERE => self.prims.spheres[i]
+        match tag_of::<KINDS>(r) {
+            SPHERE if kind_in::<KINDS>(SPHERE) => self.prims.spheres[i]
                 .intersect(rd, t_max)
                 .map(|t| (t, zero, zero)),
-            TRIANGLE => {
+            TRIANGLE if kind_in::<KINDS>(TRIANGLE) => {
                 let tri = &self.prims.triangles[i];
                 if WATERTIGHT {
                     tri.intersect_watertight(rd, t_max)
@@ -301,12 +384,13 @@ impl<T: Real> Geometry<T> {
                     tri.intersect_moller_trumbore(rd, t_max)
                 }
             }
-            CONE => self.prims.cones[i]
+            CONE if kind_in::<KINDS>(CONE) => self.prims.cones[i]
                 .intersect(rd, t_max)
                 .map(|t| (t, zero, zero)),
-            _ => self.prims.planes[i]
+            PLANE if kind_in::<KINDS>(PLANE) => self.prims.planes[i]
                 .intersect(rd, t_max)
                 .map(|t| (t, zero, zero)),
+            _ => None,
         }
     }
 
@@ -332,7 +416,7 @@ impl<T: Real> Geometry<T> {
     }
 
     #[inline(always)]
-    fn closest<const WATERTIGHT: bool>(&self, ray: &Ray<T>) -> Option<Hit<T>> {
+    fn closest<const WATERTIGHT: bool, const KINDS: u32>(&self, ray: &Ray<T>) -> Option<Hit<T>> {
         let rd = RayData::new(ray)?;
         let mut best = Best {
             r: NO_HIT,
@@ -340,9 +424,14 @@ impl<T: Real> Geometry<T> {
             b1: T::ZERO,
             b2: T::ZERO,
         };
-        for i in 0..self.prims.planes.len() {
+        let planes = if kind_in::<KINDS>(PLANE) {
+            self.prims.planes.len()
+        } else {
+            0
+        };
+        for i in 0..planes {
             let r = make_ref(PLANE, i);
-            if let Some(h) = self.test::<WATERTIGHT>(r, &rd, best.t) {
+            if let Some(h) = self.test::<WATERTIGHT, KINDS>(r, &rd, best.t) {
                 self.offer(&mut best, r, h);
             }
         }
@@ -351,7 +440,7 @@ impl<T: Real> Geometry<T> {
                 bvh.traverse::<T, false>(&rd.traversal, best.t, |refs, _| {
                     let mut improved = false;
                     for &r in refs {
-                        if let Some(h) = self.test::<WATERTIGHT>(r, &rd, best.t) {
+                        if let Some(h) = self.test::<WATERTIGHT, KINDS>(r, &rd, best.t) {
                             improved |= self.offer(&mut best, r, h);
                         }
                     }
@@ -360,23 +449,28 @@ impl<T: Real> Geometry<T> {
             }
             None => {
                 for r in self.all_refs() {
-                    if let Some(h) = self.test::<WATERTIGHT>(r, &rd, best.t) {
+                    if let Some(h) = self.test::<WATERTIGHT, KINDS>(r, &rd, best.t) {
                         self.offer(&mut best, r, h);
                     }
                 }
             }
         }
-        (best.r != NO_HIT).then(|| self.make_hit(&best, &rd))
+        (best.r != NO_HIT).then(|| self.make_hit::<KINDS>(&best, &rd))
     }
 
     #[inline(always)]
-    fn any<const WATERTIGHT: bool>(&self, ray: &Ray<T>) -> bool {
+    fn any<const WATERTIGHT: bool, const KINDS: u32>(&self, ray: &Ray<T>) -> bool {
         let Some(rd) = RayData::new(ray) else {
             return false;
         };
         let limit = rd.t_limit;
-        let hits = |r: u32| self.test::<WATERTIGHT>(r, &rd, limit).is_some();
-        if (0..self.prims.planes.len()).any(|i| hits(make_ref(PLANE, i))) {
+        let hits = |r: u32| self.test::<WATERTIGHT, KINDS>(r, &rd, limit).is_some();
+        let planes = if kind_in::<KINDS>(PLANE) {
+            self.prims.planes.len()
+        } else {
+            0
+        };
+        if (0..planes).any(|i| hits(make_ref(PLANE, i))) {
             return true;
         }
         match &self.bvh {
@@ -388,18 +482,18 @@ impl<T: Real> Geometry<T> {
     }
 
     /// Fills in the hit record for the winning candidate.
-    fn make_hit(&self, b: &Best<T>, rd: &RayData<T>) -> Hit<T> {
+    fn make_hit<const KINDS: u32>(&self, b: &Best<T>, rd: &RayData<T>) -> Hit<T> {
         let i = (b.r & INDEX_MASK) as usize;
         let p = &self.prims;
         let flip = |n: Vec3<T>, inside: bool| if inside { (-&n).eval() } else { n };
-        let (point, ng, ns, info_id, material) = match b.r >> TAG_SHIFT {
-            SPHERE => {
+        let (point, ng, ns, info_id, material) = match tag_of::<KINDS>(b.r) {
+            SPHERE if kind_in::<KINDS>(SPHERE) => {
                 let info = &p.sphere_info[i];
                 let (n, point) = p.spheres[i].normal_and_point(rd, b.t);
                 let n = flip(n, info.inside_visible);
                 (point, n, n, info.prim_id, info.material)
             }
-            TRIANGLE => {
+            TRIANGLE if kind_in::<KINDS>(TRIANGLE) => {
                 let info = &p.triangle_info[i];
                 let point = p.triangles[i].point(b.b1, b.b2);
                 let ng = info.normal;
@@ -423,7 +517,7 @@ impl<T: Real> Geometry<T> {
                 };
                 (point, ng, ns, info.prim_id, info.material)
             }
-            CONE => {
+            CONE if kind_in::<KINDS>(CONE) => {
                 let info = &p.cone_info[i];
                 let n = flip(p.cones[i].normal(rd, b.t), info.inside_visible);
                 let point = p.cones[i].point(rd, b.t);
