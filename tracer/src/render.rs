@@ -1,8 +1,12 @@
 //! Parallel, deterministic rendering.
 //!
-//! Rows are shaded in parallel with rayon; every pixel is computed by the same
-//! sequential code whatever thread runs it, and ray counts are summed as integers, so the
-//! image and the statistics are identical bit for bit for any thread count.
+//! Pixels are shaded in parallel by one of three schedulers ([`Scheduler`]): rayon's work
+//! stealing over rows (like TBB), a static partition into one contiguous block of rows per
+//! thread over `std::thread::scope` (like OpenMP `schedule(static)`), or a dynamic queue of
+//! square tiles that threads take from an atomic counter. Every pixel is computed by the
+//! same sequential code whatever thread runs it, and ray counts are summed as integers, so
+//! the image and the statistics are identical bit for bit for any thread count and any
+//! scheduler.
 
 use crate::image::Image;
 use crate::ray::Ray;
@@ -10,6 +14,7 @@ use crate::shade::{trace, TraceLimits};
 use crate::stats::RayCounts;
 use crate::world::Scene;
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 use vecexpr::{vec3, Expr, Real, Vec3};
 
@@ -35,6 +40,39 @@ pub struct Settings {
     pub spd: bool,
     /// Show a progress bar on a terminal.
     pub progress: bool,
+    /// How pixels are distributed over threads.
+    pub schedule: Schedule,
+}
+
+/// The parallel scheduler.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Scheduler {
+    /// rayon work stealing over rows.
+    #[default]
+    Rayon,
+    /// One contiguous block of rows per thread, fixed in advance.
+    Static,
+    /// Square tiles taken one at a time from a shared atomic counter.
+    Tiles,
+}
+
+/// Scheduler and tile size.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Schedule {
+    /// Which scheduler.
+    pub scheduler: Scheduler,
+    /// Tile edge in pixels for [`Scheduler::Tiles`] (at least 1).
+    pub tile: u32,
+}
+
+impl Default for Schedule {
+    /// rayon over rows; 16x16 tiles when tiles are chosen.
+    fn default() -> Self {
+        Self {
+            scheduler: Scheduler::Rayon,
+            tile: 16,
+        }
+    }
 }
 
 impl Default for Settings {
@@ -48,6 +86,7 @@ impl Default for Settings {
             threads: None,
             spd: false,
             progress: false,
+            schedule: Schedule::default(),
         }
     }
 }
@@ -84,6 +123,8 @@ pub struct RenderStats {
     pub rays: RayCounts,
     /// Wall-clock tracing time in milliseconds.
     pub trace_ms: f64,
+    /// CPU time of all threads while tracing, in milliseconds (0 where unavailable).
+    pub trace_cpu_ms: f64,
 }
 
 /// Renders `scene` with `settings`.
@@ -97,6 +138,7 @@ pub fn render<T: Real>(scene: &Scene<T>, settings: &Settings) -> Image {
 /// If a thread pool with the requested number of threads cannot be created.
 pub fn render_with_stats<T: Real>(scene: &Scene<T>, settings: &Settings) -> (Image, RenderStats) {
     let run = || {
+        let cpu = crate::stats::process_cpu_ms();
         let start = Instant::now();
         let (image, rays) = if settings.spd {
             render_corners(scene, settings)
@@ -104,15 +146,27 @@ pub fn render_with_stats<T: Real>(scene: &Scene<T>, settings: &Settings) -> (Ima
             render_grid(scene, settings)
         };
         let trace_ms = start.elapsed().as_secs_f64() * 1e3;
-        (image, RenderStats { rays, trace_ms })
+        let trace_cpu_ms = match (cpu, crate::stats::process_cpu_ms()) {
+            (Some(a), Some(b)) => b - a,
+            _ => 0.0,
+        };
+        (
+            image,
+            RenderStats {
+                rays,
+                trace_ms,
+                trace_cpu_ms,
+            },
+        )
     };
     match settings.threads {
-        Some(n) => rayon::ThreadPoolBuilder::new()
+        // The other schedulers start their own threads.
+        Some(n) if settings.schedule.scheduler == Scheduler::Rayon => rayon::ThreadPoolBuilder::new()
             .num_threads(n.max(1))
             .build()
             .expect("cannot create the rendering thread pool")
             .install(run),
-        None => run(),
+        _ => run(),
     }
 }
 
@@ -155,6 +209,124 @@ fn to_rgb<T: Real>(c: &Vec3<T>) -> [f32; 3] {
     ]
 }
 
+/// Computes `f(x, y, counts)` for every point of a `w` x `h` grid with the chosen
+/// scheduler, returning the values in row-major order and the summed ray counts. The
+/// value of a point does not depend on the scheduler or the thread that computes it.
+fn for_each_point<V, F>(
+    w: usize,
+    h: usize,
+    settings: &Settings,
+    bar: &indicatif::ProgressBar,
+    f: F,
+) -> (Vec<V>, RayCounts)
+where
+    V: Copy + Default + Send,
+    F: Fn(usize, usize, &mut RayCounts) -> V + Sync,
+{
+    let mut out = vec![V::default(); w * h];
+    if w == 0 || h == 0 {
+        return (out, RayCounts::default());
+    }
+    let threads = settings
+        .threads
+        .unwrap_or_else(rayon::current_num_threads)
+        .max(1);
+    let counts = match settings.schedule.scheduler {
+        Scheduler::Rayon => out
+            .par_chunks_mut(w)
+            .enumerate()
+            .map(|(y, row)| {
+                let mut counts = RayCounts::default();
+                for (x, v) in row.iter_mut().enumerate() {
+                    *v = f(x, y, &mut counts);
+                }
+                bar.inc(1);
+                counts
+            })
+            .reduce(RayCounts::default, |a, b| a + b),
+        Scheduler::Static => {
+            let rows_per = h.div_ceil(threads);
+            std::thread::scope(|s| {
+                let handles: Vec<_> = out
+                    .chunks_mut(rows_per * w)
+                    .enumerate()
+                    .map(|(k, block)| {
+                        let f = &f;
+                        s.spawn(move || {
+                            let mut counts = RayCounts::default();
+                            for (r, row) in block.chunks_mut(w).enumerate() {
+                                let y = k * rows_per + r;
+                                for (x, v) in row.iter_mut().enumerate() {
+                                    *v = f(x, y, &mut counts);
+                                }
+                                bar.inc(1);
+                            }
+                            counts
+                        })
+                    })
+                    .collect();
+                handles
+                    .into_iter()
+                    .map(|t| t.join().expect("a render thread panicked"))
+                    .fold(RayCounts::default(), |a, b| a + b)
+            })
+        }
+        Scheduler::Tiles => {
+            let t = settings.schedule.tile.max(1) as usize;
+            let (tx, ty) = (w.div_ceil(t), h.div_ceil(t));
+            let next = AtomicUsize::new(0);
+            // Each thread keeps the tiles it rendered; they are copied into place after
+            // the join, so no two threads ever write the same buffer.
+            let done: Vec<(Vec<(usize, Vec<V>)>, RayCounts)> = std::thread::scope(|s| {
+                let handles: Vec<_> = (0..threads)
+                    .map(|_| {
+                        let (f, next) = (&f, &next);
+                        s.spawn(move || {
+                            let mut counts = RayCounts::default();
+                            let mut tiles = Vec::new();
+                            loop {
+                                let k = next.fetch_add(1, Ordering::Relaxed);
+                                if k >= tx * ty {
+                                    break;
+                                }
+                                let (x0, y0) = ((k % tx) * t, (k / tx) * t);
+                                let (x1, y1) = ((x0 + t).min(w), (y0 + t).min(h));
+                                let mut vals = Vec::with_capacity((x1 - x0) * (y1 - y0));
+                                for y in y0..y1 {
+                                    for x in x0..x1 {
+                                        vals.push(f(x, y, &mut counts));
+                                    }
+                                }
+                                tiles.push((k, vals));
+                            }
+                            (tiles, counts)
+                        })
+                    })
+                    .collect();
+                handles
+                    .into_iter()
+                    .map(|t| t.join().expect("a render thread panicked"))
+                    .collect()
+            });
+            let mut counts = RayCounts::default();
+            for (tiles, c) in done {
+                counts += c;
+                for (k, vals) in tiles {
+                    let (x0, y0) = ((k % tx) * t, (k / tx) * t);
+                    let tw = (x0 + t).min(w) - x0;
+                    for (r, row) in vals.chunks(tw).enumerate() {
+                        let at = (y0 + r) * w + x0;
+                        out[at..at + tw].copy_from_slice(row);
+                    }
+                }
+            }
+            bar.inc(h as u64);
+            counts
+        }
+    };
+    (out, counts)
+}
+
 /// An `aa` x `aa` grid of rays per pixel, averaged.
 fn render_grid<T: Real>(scene: &Scene<T>, settings: &Settings) -> (Image, RayCounts) {
     let (w, h) = settings.size(scene);
@@ -165,30 +337,20 @@ fn render_grid<T: Real>(scene: &Scene<T>, settings: &Settings) -> (Image, RayCou
     let norm = T::from_f64(1.0 / (a as f64 * a as f64));
     let mut image = Image::new(w, h);
     let bar = progress_bar(settings, h as u64);
-    let counts = image
-        .pixels
-        .par_chunks_mut(w.max(1) as usize)
-        .enumerate()
-        .map(|(y, row)| {
-            let mut counts = RayCounts::default();
-            for (x, px) in row.iter_mut().enumerate() {
-                let mut sum = vec3(T::ZERO, T::ZERO, T::ZERO);
-                for j in 0..a {
-                    let sy =
-                        T::from_f64(y as f64) + (T::from_f64(j as f64) + T::from_f64(0.5)) * inv_a;
-                    for i in 0..a {
-                        let sx = T::from_f64(x as f64)
-                            + (T::from_f64(i as f64) + T::from_f64(0.5)) * inv_a;
-                        sum += eye_sample(scene, &cam, sx, sy, &limits, &mut counts);
-                    }
-                }
-                *px = to_rgb(&sum.scale(norm).eval());
+    let (pixels, counts) = for_each_point(w as usize, h as usize, settings, &bar, |x, y, counts| {
+        let mut sum = vec3(T::ZERO, T::ZERO, T::ZERO);
+        for j in 0..a {
+            let sy = T::from_f64(y as f64) + (T::from_f64(j as f64) + T::from_f64(0.5)) * inv_a;
+            for i in 0..a {
+                let sx =
+                    T::from_f64(x as f64) + (T::from_f64(i as f64) + T::from_f64(0.5)) * inv_a;
+                sum += eye_sample(scene, &cam, sx, sy, &limits, counts);
             }
-            bar.inc(1);
-            counts
-        })
-        .reduce(RayCounts::default, |a, b| a + b);
+        }
+        to_rgb(&sum.scale(norm).eval())
+    });
     bar.finish_and_clear();
+    image.pixels = pixels;
     (image, counts)
 }
 
@@ -198,27 +360,17 @@ fn render_corners<T: Real>(scene: &Scene<T>, settings: &Settings) -> (Image, Ray
     let cam = scene.camera_for(w, h);
     let limits = settings.limits::<T>();
     let (cw, ch) = (w as usize + 1, h as usize + 1);
-    let mut corners = vec![vec3(T::ZERO, T::ZERO, T::ZERO); cw * ch];
     let bar = progress_bar(settings, ch as u64);
-    let counts = corners
-        .par_chunks_mut(cw)
-        .enumerate()
-        .map(|(y, row)| {
-            let mut counts = RayCounts::default();
-            for (x, c) in row.iter_mut().enumerate() {
-                *c = eye_sample(
-                    scene,
-                    &cam,
-                    T::from_f64(x as f64),
-                    T::from_f64(y as f64),
-                    &limits,
-                    &mut counts,
-                );
-            }
-            bar.inc(1);
-            counts
-        })
-        .reduce(RayCounts::default, |a, b| a + b);
+    let (corners, counts) = for_each_point(cw, ch, settings, &bar, |x, y, counts| {
+        eye_sample(
+            scene,
+            &cam,
+            T::from_f64(x as f64),
+            T::from_f64(y as f64),
+            &limits,
+            counts,
+        )
+    });
     bar.finish_and_clear();
     let quarter = T::from_f64(0.25);
     let mut image = Image::new(w, h);
