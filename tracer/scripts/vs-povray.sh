@@ -4,8 +4,9 @@
 # ../shared/peers/povray-times (which installs POV-Ray with apt if needed) over the seven
 # scenes, then the tracer over the same seven; the table gives per-scene medians over the
 # rounds, the median over rounds of the ratio POV-Ray / tracer (how many times faster
-# the tracer is) and the
-# geometric mean of the ratios.
+# the tracer is) and the geometric mean of the ratios, for wall-clock trace time and for
+# CPU time of all threads while tracing (steadier on a loaded machine).
+# Set TRACER_BIN to measure another tracer binary.
 # Usage: tracer/scripts/vs-povray.sh [ROUNDS] [OUT_DIR] [-- extra tracer render options]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
@@ -31,22 +32,28 @@ python3 - "$out" "$rounds" "${list[@]}" <<'PY'
 import json, math, statistics, sys
 out, rounds, names = sys.argv[1], int(sys.argv[2]), sys.argv[3:]
 pov = {n: [] for n in names}
+pov_cpu = {n: [] for n in names}
 for r in range(1, rounds + 1):
     for line in open(f"{out}/pov-{r}.txt"):
         f = line.split()
         if f and f[0] in pov:
             pov[f[0]].append(float(f[1]) * 1e3)
-print(f"rounds: {rounds}, medians in ms")
-print("| scene | POV-Ray trace ms | tracer trace ms | POV-Ray / tracer |")
-print("|---|---:|---:|---:|")
-ratios = []
+            pov_cpu[f[0]].append(float(f[2]) * 1e3)
+print(f"rounds: {rounds}, medians in ms; ratios are medians of the per-round ratios")
+print("| scene | POV-Ray trace ms | tracer trace ms | POV-Ray / tracer | POV-Ray CPU ms | tracer CPU ms | CPU ratio |")
+print("|---|---:|---:|---:|---:|---:|---:|")
+ratios, cpu_ratios = [], []
 for n in names:
-    t = [json.load(open(f"{out}/{n}-{r}.json"))["times_ms"]["trace"] for r in range(1, rounds + 1)]
-    p, m = statistics.median(pov[n]), statistics.median(t)
+    d = [json.load(open(f"{out}/{n}-{r}.json"))["times_ms"] for r in range(1, rounds + 1)]
+    t = [x["trace"] for x in d]
+    c = [x.get("trace_cpu", 0.0) for x in d]
     # The ratio of each round (POV-Ray and tracer run back to back), then the median.
     q = statistics.median(a / b for a, b in zip(pov[n], t))
+    qc = statistics.median(a / b for a, b in zip(pov_cpu[n], c)) if min(c) > 0 else float("nan")
     ratios.append(q)
-    print(f"| {n} | {p:.0f} | {m:.1f} | {q:.2f} |")
-g = math.exp(sum(map(math.log, ratios)) / len(ratios))
-print(f"| geometric mean | | | {g:.2f} |")
+    cpu_ratios.append(qc)
+    print(f"| {n} | {statistics.median(pov[n]):.0f} | {statistics.median(t):.1f} | {q:.2f} "
+          f"| {statistics.median(pov_cpu[n]):.0f} | {statistics.median(c):.1f} | {qc:.2f} |")
+geo = lambda v: math.exp(sum(map(math.log, v)) / len(v))
+print(f"| geometric mean | | | {geo(ratios):.2f} | | | {geo(cpu_ratios):.2f} |")
 PY

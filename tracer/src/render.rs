@@ -161,11 +161,13 @@ pub fn render_with_stats<T: Real>(scene: &Scene<T>, settings: &Settings) -> (Ima
     };
     match settings.threads {
         // The other schedulers start their own threads.
-        Some(n) if settings.schedule.scheduler == Scheduler::Rayon => rayon::ThreadPoolBuilder::new()
-            .num_threads(n.max(1))
-            .build()
-            .expect("cannot create the rendering thread pool")
-            .install(run),
+        Some(n) if settings.schedule.scheduler == Scheduler::Rayon => {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(n.max(1))
+                .build()
+                .expect("cannot create the rendering thread pool")
+                .install(run)
+        }
         _ => run(),
     }
 }
@@ -208,6 +210,9 @@ fn to_rgb<T: Real>(c: &Vec3<T>) -> [f32; 3] {
         c[2].to_f64() as f32,
     ]
 }
+
+/// The tiles one thread rendered (index, values in row-major order) and its ray counts.
+type TilesDone<V> = (Vec<(usize, Vec<V>)>, RayCounts);
 
 /// Computes `f(x, y, counts)` for every point of a `w` x `h` grid with the chosen
 /// scheduler, returning the values in row-major order and the summed ray counts. The
@@ -277,7 +282,7 @@ where
             let next = AtomicUsize::new(0);
             // Each thread keeps the tiles it rendered; they are copied into place after
             // the join, so no two threads ever write the same buffer.
-            let done: Vec<(Vec<(usize, Vec<V>)>, RayCounts)> = std::thread::scope(|s| {
+            let done: Vec<TilesDone<V>> = std::thread::scope(|s| {
                 let handles: Vec<_> = (0..threads)
                     .map(|_| {
                         let (f, next) = (&f, &next);
@@ -337,18 +342,19 @@ fn render_grid<T: Real>(scene: &Scene<T>, settings: &Settings) -> (Image, RayCou
     let norm = T::from_f64(1.0 / (a as f64 * a as f64));
     let mut image = Image::new(w, h);
     let bar = progress_bar(settings, h as u64);
-    let (pixels, counts) = for_each_point(w as usize, h as usize, settings, &bar, |x, y, counts| {
-        let mut sum = vec3(T::ZERO, T::ZERO, T::ZERO);
-        for j in 0..a {
-            let sy = T::from_f64(y as f64) + (T::from_f64(j as f64) + T::from_f64(0.5)) * inv_a;
-            for i in 0..a {
-                let sx =
-                    T::from_f64(x as f64) + (T::from_f64(i as f64) + T::from_f64(0.5)) * inv_a;
-                sum += eye_sample(scene, &cam, sx, sy, &limits, counts);
+    let (pixels, counts) =
+        for_each_point(w as usize, h as usize, settings, &bar, |x, y, counts| {
+            let mut sum = vec3(T::ZERO, T::ZERO, T::ZERO);
+            for j in 0..a {
+                let sy = T::from_f64(y as f64) + (T::from_f64(j as f64) + T::from_f64(0.5)) * inv_a;
+                for i in 0..a {
+                    let sx =
+                        T::from_f64(x as f64) + (T::from_f64(i as f64) + T::from_f64(0.5)) * inv_a;
+                    sum += eye_sample(scene, &cam, sx, sy, &limits, counts);
+                }
             }
-        }
-        to_rgb(&sum.scale(norm).eval())
-    });
+            to_rgb(&sum.scale(norm).eval())
+        });
     bar.finish_and_clear();
     image.pixels = pixels;
     (image, counts)

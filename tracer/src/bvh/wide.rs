@@ -62,9 +62,9 @@ impl Node4 {
     };
 
     fn set(&mut self, lane: usize, b: &[[f32; 3]; 2], child: u32, count: u32) {
-        for side in 0..2 {
-            for a in 0..3 {
-                self.bounds[side][a][lane] = b[side][a];
+        for (dst, src) in self.bounds.iter_mut().zip(b) {
+            for (d, &x) in dst.iter_mut().zip(src) {
+                d[lane] = x;
             }
         }
         self.child[lane] = child;
@@ -284,7 +284,7 @@ mod tests {
 
     #[test]
     fn collapse_keeps_every_leaf_once() {
-        use crate::bvh::{BuildConfig, BuildPrim, Bounds3};
+        use crate::bvh::{Bounds3, BuildConfig, BuildPrim};
         let mut prims: Vec<BuildPrim> = (0..300)
             .map(|i| {
                 let x = (i * 7919 % 300) as f32;
