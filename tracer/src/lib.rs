@@ -25,6 +25,7 @@
 //! assert_eq!((image.width, image.height), (32, 32));
 //! ```
 
+pub mod bench;
 pub mod bvh;
 pub mod camera;
 pub mod effects;

@@ -10,7 +10,7 @@ use std::process::ExitCode;
 use std::time::Instant;
 use tracer::effects::EffectsMode;
 use tracer::geometry::AccelOptions;
-use tracer::render::{render_with_stats, Settings};
+use tracer::render::{render_with_stats, Schedule, Scheduler, Settings};
 use tracer::scene::{self, desc::SceneDesc};
 use tracer::world::Scene;
 use vecexpr::Real;
@@ -30,6 +30,75 @@ struct Cli {
 enum Command {
     /// Render a scene (.nff, .nff.gz or .obj) to an image (.png or .pfm).
     Render(RenderArgs),
+    /// Measure build time, ray throughput by kind and frame time of scenes.
+    Bench(BenchArgs),
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum SchedulerArg {
+    Rayon,
+    Static,
+    Tiles,
+}
+
+/// Scheduler options shared by `render` and `bench`.
+#[derive(clap::Args, Debug)]
+struct ScheduleArgs {
+    /// Parallel scheduler: rayon work stealing, static row blocks, or a dynamic tile queue.
+    #[arg(long, value_enum, default_value_t = SchedulerArg::Rayon)]
+    scheduler: SchedulerArg,
+    /// Tile edge in pixels for --scheduler tiles.
+    #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u32).range(1..=4096))]
+    tile: u32,
+}
+
+impl ScheduleArgs {
+    fn schedule(&self) -> Schedule {
+        Schedule {
+            scheduler: match self.scheduler {
+                SchedulerArg::Rayon => Scheduler::Rayon,
+                SchedulerArg::Static => Scheduler::Static,
+                SchedulerArg::Tiles => Scheduler::Tiles,
+            },
+            tile: self.tile,
+        }
+    }
+}
+
+#[derive(clap::Args, Debug)]
+struct BenchArgs {
+    /// Scene files (.nff, .nff.gz, .obj).
+    #[arg(required = true)]
+    scenes: Vec<PathBuf>,
+    /// Image width.
+    #[arg(long, default_value_t = 512, value_parser = clap::value_parser!(u32).range(1..=65536))]
+    width: u32,
+    /// Image height.
+    #[arg(long, default_value_t = 512, value_parser = clap::value_parser!(u32).range(1..=65536))]
+    height: u32,
+    /// Maximum ray depth of the frame.
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=64))]
+    depth: u32,
+    /// Runs per measurement (medians are printed).
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=1000))]
+    runs: u32,
+    /// Worker threads (default: all cores).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    threads: Option<u32>,
+    /// Arithmetic precision.
+    #[arg(long, value_enum, default_value_t = Precision::F32)]
+    precision: Precision,
+    /// Trace without the BVH (brute force).
+    #[arg(long)]
+    no_bvh: bool,
+    /// Traverse the binary BVH instead of the four-wide one.
+    #[arg(long)]
+    binary_bvh: bool,
+    /// Output of povray-times, for the ratio column.
+    #[arg(long, value_name = "FILE")]
+    peer: Option<PathBuf>,
+    #[command(flatten)]
+    schedule: ScheduleArgs,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -86,6 +155,11 @@ struct RenderArgs {
     /// Trace without the BVH (brute force), for comparison.
     #[arg(long)]
     no_bvh: bool,
+    /// Traverse the binary BVH instead of the four-wide one, for comparison.
+    #[arg(long)]
+    binary_bvh: bool,
+    #[command(flatten)]
+    schedule: ScheduleArgs,
     /// OBJ camera position (x,y,z); NFF scenes carry their own camera.
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     from: Option<[f64; 3]>,
@@ -134,7 +208,70 @@ fn main() -> ExitCode {
                 ExitCode::from(2)
             }
         },
+        Command::Bench(args) => match run_bench(&args) {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(msg) => {
+                eprintln!("{msg}");
+                ExitCode::from(2)
+            }
+        },
     }
+}
+
+fn run_bench(args: &BenchArgs) -> Result<(), String> {
+    use tracer::bench::{bench_scene, parse_peer_times, table, BenchOptions};
+    let peer = match &args.peer {
+        Some(p) => parse_peer_times(
+            &std::fs::read_to_string(p).map_err(|e| format!("{}: {e}", p.display()))?,
+        ),
+        None => Vec::new(),
+    };
+    let opts = BenchOptions {
+        width: args.width,
+        height: args.height,
+        depth: args.depth,
+        runs: args.runs as usize,
+        threads: args.threads.map(|t| t as usize),
+        schedule: args.schedule.schedule(),
+        accel: AccelOptions {
+            use_bvh: !args.no_bvh,
+            wide: !args.binary_bvh,
+            ..AccelOptions::default()
+        },
+    };
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(opts.threads.unwrap_or(0))
+        .build()
+        .map_err(|e| format!("cannot create the thread pool: {e}"))?;
+    let mut rows = Vec::new();
+    for path in &args.scenes {
+        let desc = if is_obj(path) {
+            scene::load_obj(path, &scene::ObjOptions::default())
+        } else {
+            scene::load(path)
+        }
+        .map_err(|e| e.to_string())?;
+        let name = path
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let name = name.split('.').next().unwrap_or_default().to_string();
+        let row = pool.install(|| match args.precision {
+            Precision::F32 => bench_scene::<f32>(&name, &desc, &opts),
+            Precision::F64 => bench_scene::<f64>(&name, &desc, &opts),
+        });
+        rows.push(row);
+    }
+    print!("{}", table(&rows, &peer));
+    Ok(())
+}
+
+fn is_obj(path: &Path) -> bool {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().to_ascii_lowercase())
+        .unwrap_or_default();
+    name.ends_with(".obj") || name.ends_with(".obj.gz")
 }
 
 fn load(args: &RenderArgs) -> Result<SceneDesc, String> {
@@ -186,9 +323,11 @@ fn run_render(args: &RenderArgs) -> Result<(), String> {
             Effects::Auto => EffectsMode::Auto,
             Effects::All => EffectsMode::All,
         },
+        schedule: args.schedule.schedule(),
     };
     let accel = AccelOptions {
         use_bvh: !args.no_bvh,
+        wide: !args.binary_bvh,
         ..AccelOptions::default()
     };
     match args.precision {
@@ -222,7 +361,7 @@ fn render_in<T: Real>(
         let (w, h) = settings.size(&scene);
         let report = json!({
             "scene": args.scene.display().to_string(),
-            "times_ms": { "parse": parse_ms, "build": build_ms, "trace": stats.trace_ms, "total": total_ms },
+            "times_ms": { "parse": parse_ms, "build": build_ms, "trace": stats.trace_ms, "trace_cpu": stats.trace_cpu_ms, "total": total_ms },
             "rays": stats.rays,
             "effects": stats.effects,
             "primitives": {

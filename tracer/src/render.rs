@@ -1,8 +1,12 @@
 //! Parallel, deterministic rendering.
 //!
-//! Rows are shaded in parallel with rayon; every pixel is computed by the same
-//! sequential code whatever thread runs it, and ray counts are summed as integers, so the
-//! image and the statistics are identical bit for bit for any thread count.
+//! Pixels are shaded in parallel by one of three schedulers ([`Scheduler`]): rayon's work
+//! stealing over rows (like TBB), a static partition into one contiguous block of rows per
+//! thread over `std::thread::scope` (like OpenMP `schedule(static)`), or a dynamic queue of
+//! square tiles that threads take from an atomic counter. Every pixel is computed by the
+//! same sequential code whatever thread runs it, and ray counts are summed as integers, so
+//! the image and the statistics are identical bit for bit for any thread count and any
+//! scheduler.
 
 use crate::effects::{self, has, EffectChoice, EffectFn, EffectSet, EffectsMode, SUPERSAMPLING};
 use crate::image::Image;
@@ -11,6 +15,7 @@ use crate::shade::{trace_fx, TraceLimits};
 use crate::stats::RayCounts;
 use crate::world::Scene;
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 use vecexpr::{vec3, Expr, Real, Vec3};
 
@@ -39,6 +44,39 @@ pub struct Settings {
     /// The renderer specialised for the scene's effects, or the general one (the image
     /// is the same).
     pub effects: EffectsMode,
+    /// How pixels are distributed over threads.
+    pub schedule: Schedule,
+}
+
+/// The parallel scheduler.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Scheduler {
+    /// rayon work stealing over rows.
+    #[default]
+    Rayon,
+    /// One contiguous block of rows per thread, fixed in advance.
+    Static,
+    /// Square tiles taken one at a time from a shared atomic counter.
+    Tiles,
+}
+
+/// Scheduler and tile size.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Schedule {
+    /// Which scheduler.
+    pub scheduler: Scheduler,
+    /// Tile edge in pixels for [`Scheduler::Tiles`] (at least 1).
+    pub tile: u32,
+}
+
+impl Default for Schedule {
+    /// rayon over rows; 16x16 tiles when tiles are chosen.
+    fn default() -> Self {
+        Self {
+            scheduler: Scheduler::Rayon,
+            tile: 16,
+        }
+    }
 }
 
 impl Default for Settings {
@@ -53,6 +91,7 @@ impl Default for Settings {
             spd: false,
             progress: false,
             effects: EffectsMode::Auto,
+            schedule: Schedule::default(),
         }
     }
 }
@@ -91,6 +130,8 @@ pub struct RenderStats {
     pub trace_ms: f64,
     /// The effects needed and the renderer that ran.
     pub effects: EffectChoice,
+    /// CPU time of all threads while tracing, in milliseconds (0 where unavailable).
+    pub trace_cpu_ms: f64,
 }
 
 /// Renders `scene` with `settings`.
@@ -185,6 +226,7 @@ fn render_choice<T: Real>(
     choice: EffectChoice,
 ) -> (Image, RenderStats) {
     let run = || {
+        let cpu = crate::stats::process_cpu_ms();
         let start = Instant::now();
         let any: &dyn core::any::Any = scene;
         let (image, rays) = match any.downcast_ref::<Scene<f32>>() {
@@ -192,22 +234,30 @@ fn render_choice<T: Real>(
             None => Renderer { scene, settings }.call::<{ effects::ALL }>(),
         };
         let trace_ms = start.elapsed().as_secs_f64() * 1e3;
+        let trace_cpu_ms = match (cpu, crate::stats::process_cpu_ms()) {
+            (Some(a), Some(b)) => b - a,
+            _ => 0.0,
+        };
         (
             image,
             RenderStats {
                 rays,
                 trace_ms,
                 effects: choice,
+                trace_cpu_ms,
             },
         )
     };
     match settings.threads {
-        Some(n) => rayon::ThreadPoolBuilder::new()
-            .num_threads(n.max(1))
-            .build()
-            .expect("cannot create the rendering thread pool")
-            .install(run),
-        None => run(),
+        // The other schedulers start their own threads.
+        Some(n) if settings.schedule.scheduler == Scheduler::Rayon => {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(n.max(1))
+                .build()
+                .expect("cannot create the rendering thread pool")
+                .install(run)
+        }
+        _ => run(),
     }
 }
 
@@ -250,6 +300,127 @@ fn to_rgb<T: Real>(c: &Vec3<T>) -> [f32; 3] {
     ]
 }
 
+/// The tiles one thread rendered (index, values in row-major order) and its ray counts.
+type TilesDone<V> = (Vec<(usize, Vec<V>)>, RayCounts);
+
+/// Computes `f(x, y, counts)` for every point of a `w` x `h` grid with the chosen
+/// scheduler, returning the values in row-major order and the summed ray counts. The
+/// value of a point does not depend on the scheduler or the thread that computes it.
+fn for_each_point<V, F>(
+    w: usize,
+    h: usize,
+    settings: &Settings,
+    bar: &indicatif::ProgressBar,
+    f: F,
+) -> (Vec<V>, RayCounts)
+where
+    V: Copy + Default + Send,
+    F: Fn(usize, usize, &mut RayCounts) -> V + Sync,
+{
+    let mut out = vec![V::default(); w * h];
+    if w == 0 || h == 0 {
+        return (out, RayCounts::default());
+    }
+    let threads = settings
+        .threads
+        .unwrap_or_else(rayon::current_num_threads)
+        .max(1);
+    let counts = match settings.schedule.scheduler {
+        Scheduler::Rayon => out
+            .par_chunks_mut(w)
+            .enumerate()
+            .map(|(y, row)| {
+                let mut counts = RayCounts::default();
+                for (x, v) in row.iter_mut().enumerate() {
+                    *v = f(x, y, &mut counts);
+                }
+                bar.inc(1);
+                counts
+            })
+            .reduce(RayCounts::default, |a, b| a + b),
+        Scheduler::Static => {
+            let rows_per = h.div_ceil(threads);
+            std::thread::scope(|s| {
+                let handles: Vec<_> = out
+                    .chunks_mut(rows_per * w)
+                    .enumerate()
+                    .map(|(k, block)| {
+                        let f = &f;
+                        s.spawn(move || {
+                            let mut counts = RayCounts::default();
+                            for (r, row) in block.chunks_mut(w).enumerate() {
+                                let y = k * rows_per + r;
+                                for (x, v) in row.iter_mut().enumerate() {
+                                    *v = f(x, y, &mut counts);
+                                }
+                                bar.inc(1);
+                            }
+                            counts
+                        })
+                    })
+                    .collect();
+                handles
+                    .into_iter()
+                    .map(|t| t.join().expect("a render thread panicked"))
+                    .fold(RayCounts::default(), |a, b| a + b)
+            })
+        }
+        Scheduler::Tiles => {
+            let t = settings.schedule.tile.max(1) as usize;
+            let (tx, ty) = (w.div_ceil(t), h.div_ceil(t));
+            let next = AtomicUsize::new(0);
+            // Each thread keeps the tiles it rendered; they are copied into place after
+            // the join, so no two threads ever write the same buffer.
+            let done: Vec<TilesDone<V>> = std::thread::scope(|s| {
+                let handles: Vec<_> = (0..threads)
+                    .map(|_| {
+                        let (f, next) = (&f, &next);
+                        s.spawn(move || {
+                            let mut counts = RayCounts::default();
+                            let mut tiles = Vec::new();
+                            loop {
+                                let k = next.fetch_add(1, Ordering::Relaxed);
+                                if k >= tx * ty {
+                                    break;
+                                }
+                                let (x0, y0) = ((k % tx) * t, (k / tx) * t);
+                                let (x1, y1) = ((x0 + t).min(w), (y0 + t).min(h));
+                                let mut vals = Vec::with_capacity((x1 - x0) * (y1 - y0));
+                                for y in y0..y1 {
+                                    for x in x0..x1 {
+                                        vals.push(f(x, y, &mut counts));
+                                    }
+                                }
+                                tiles.push((k, vals));
+                            }
+                            (tiles, counts)
+                        })
+                    })
+                    .collect();
+                handles
+                    .into_iter()
+                    .map(|t| t.join().expect("a render thread panicked"))
+                    .collect()
+            });
+            let mut counts = RayCounts::default();
+            for (tiles, c) in done {
+                counts += c;
+                for (k, vals) in tiles {
+                    let (x0, y0) = ((k % tx) * t, (k / tx) * t);
+                    let tw = (x0 + t).min(w) - x0;
+                    for (r, row) in vals.chunks(tw).enumerate() {
+                        let at = (y0 + r) * w + x0;
+                        out[at..at + tw].copy_from_slice(row);
+                    }
+                }
+            }
+            bar.inc(h as u64);
+            counts
+        }
+    };
+    (out, counts)
+}
+
 /// An `aa` x `aa` grid of rays per pixel, averaged.
 fn render_grid<T: Real, const FX: u32>(
     scene: &Scene<T>,
@@ -263,40 +434,30 @@ fn render_grid<T: Real, const FX: u32>(
     let norm = T::from_f64(1.0 / (a as f64 * a as f64));
     let mut image = Image::new(w, h);
     let bar = progress_bar(settings, h as u64);
-    let counts = image
-        .pixels
-        .par_chunks_mut(w.max(1) as usize)
-        .enumerate()
-        .map(|(y, row)| {
-            let mut counts = RayCounts::default();
-            for (x, px) in row.iter_mut().enumerate() {
-                let mut sum = vec3(T::ZERO, T::ZERO, T::ZERO);
-                if !has(FX, SUPERSAMPLING) {
-                    // One ray through the centre: the a = 1 case below without its
-                    // exact multiplications by 1 (adding to zero is kept, as it turns
-                    // a -0 into +0 there).
-                    let half = T::from_f64(0.5);
-                    let (sx, sy) = (T::from_f64(x as f64) + half, T::from_f64(y as f64) + half);
-                    sum += eye_sample::<T, FX>(scene, &cam, sx, sy, &limits, &mut counts);
-                    *px = to_rgb(&sum);
-                    continue;
-                }
-                for j in 0..a {
-                    let sy =
-                        T::from_f64(y as f64) + (T::from_f64(j as f64) + T::from_f64(0.5)) * inv_a;
-                    for i in 0..a {
-                        let sx = T::from_f64(x as f64)
-                            + (T::from_f64(i as f64) + T::from_f64(0.5)) * inv_a;
-                        sum += eye_sample::<T, FX>(scene, &cam, sx, sy, &limits, &mut counts);
-                    }
-                }
-                *px = to_rgb(&sum.scale(norm).eval());
+    let (pixels, counts) =
+        for_each_point(w as usize, h as usize, settings, &bar, |x, y, counts| {
+            let mut sum = vec3(T::ZERO, T::ZERO, T::ZERO);
+            if !has(FX, SUPERSAMPLING) {
+                // One ray through the centre: the a = 1 case below without its exact
+                // multiplications by 1 (adding to zero is kept, as it turns a -0 into +0
+                // there).
+                let half = T::from_f64(0.5);
+                let (sx, sy) = (T::from_f64(x as f64) + half, T::from_f64(y as f64) + half);
+                sum += eye_sample::<T, FX>(scene, &cam, sx, sy, &limits, counts);
+                return to_rgb(&sum);
             }
-            bar.inc(1);
-            counts
-        })
-        .reduce(RayCounts::default, |a, b| a + b);
+            for j in 0..a {
+                let sy = T::from_f64(y as f64) + (T::from_f64(j as f64) + T::from_f64(0.5)) * inv_a;
+                for i in 0..a {
+                    let sx =
+                        T::from_f64(x as f64) + (T::from_f64(i as f64) + T::from_f64(0.5)) * inv_a;
+                    sum += eye_sample::<T, FX>(scene, &cam, sx, sy, &limits, counts);
+                }
+            }
+            to_rgb(&sum.scale(norm).eval())
+        });
     bar.finish_and_clear();
+    image.pixels = pixels;
     (image, counts)
 }
 
@@ -309,27 +470,17 @@ fn render_corners<T: Real, const FX: u32>(
     let cam = scene.camera_for(w, h);
     let limits = settings.limits::<T>();
     let (cw, ch) = (w as usize + 1, h as usize + 1);
-    let mut corners = vec![vec3(T::ZERO, T::ZERO, T::ZERO); cw * ch];
     let bar = progress_bar(settings, ch as u64);
-    let counts = corners
-        .par_chunks_mut(cw)
-        .enumerate()
-        .map(|(y, row)| {
-            let mut counts = RayCounts::default();
-            for (x, c) in row.iter_mut().enumerate() {
-                *c = eye_sample::<T, FX>(
-                    scene,
-                    &cam,
-                    T::from_f64(x as f64),
-                    T::from_f64(y as f64),
-                    &limits,
-                    &mut counts,
-                );
-            }
-            bar.inc(1);
-            counts
-        })
-        .reduce(RayCounts::default, |a, b| a + b);
+    let (corners, counts) = for_each_point(cw, ch, settings, &bar, |x, y, counts| {
+        eye_sample::<T, FX>(
+            scene,
+            &cam,
+            T::from_f64(x as f64),
+            T::from_f64(y as f64),
+            &limits,
+            counts,
+        )
+    });
     bar.finish_and_clear();
     let quarter = T::from_f64(0.25);
     let mut image = Image::new(w, h);

@@ -53,3 +53,23 @@ pub struct Times {
     /// Everything, including writing the image.
     pub total: f64,
 }
+
+/// CPU time consumed so far by all threads of this process (including threads that have
+/// exited), in milliseconds, or `None` where the clock is not available.
+pub fn process_cpu_ms() -> Option<f64> {
+    #[cfg(unix)]
+    {
+        let mut ts = libc::timespec {
+            tv_sec: 0,
+            tv_nsec: 0,
+        };
+        // SAFETY: `ts` is a valid, writable `timespec` for the duration of the call, and
+        // CLOCK_PROCESS_CPUTIME_ID is a clock id every POSIX system accepts.
+        let rc = unsafe { libc::clock_gettime(libc::CLOCK_PROCESS_CPUTIME_ID, &mut ts) };
+        (rc == 0).then_some(ts.tv_sec as f64 * 1e3 + ts.tv_nsec as f64 * 1e-6)
+    }
+    #[cfg(not(unix))]
+    {
+        None
+    }
+}

@@ -9,21 +9,27 @@
 //! - [`node`]: the 32-byte node and its layout.
 //! - [`traverse`]: ordered closest-hit and early-exit any-hit traversal with a
 //!   conservative slab test (Ize 2013).
+//! - [`wide`]: the same tree collapsed into four-wide nodes whose boxes are tested in
+//!   one packet, with the same ordered and early-exit traversals.
 
 pub mod build;
 pub mod node;
 pub mod traverse;
+pub mod wide;
 
 pub use build::{BuildConfig, BuildPrim};
 pub use node::{Bounds3, Node};
 pub use traverse::TraversalRay;
+pub use wide::Node4;
 
 /// A flattened BVH: depth-first nodes plus the primitive ids in leaf order.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Bvh {
     nodes: Vec<Node>,
+    wide: Vec<Node4>,
     refs: Vec<u32>,
     depth: usize,
+    wide_depth: usize,
 }
 
 impl Bvh {
@@ -37,10 +43,13 @@ impl Bvh {
             "too many primitives for a BVH"
         );
         let (nodes, depth) = build::build(prims, cfg);
+        let (wide, wide_depth) = wide::collapse(&nodes);
         Self {
             nodes,
+            wide,
             refs: prims.iter().map(|p| p.id).collect(),
             depth,
+            wide_depth,
         }
     }
 
@@ -66,9 +75,19 @@ impl Bvh {
         self.depth
     }
 
-    /// Bytes of nodes plus references.
+    /// Levels of the four-wide tree (0 when empty).
+    pub fn wide_depth(&self) -> usize {
+        self.wide_depth
+    }
+
+    /// Bytes of the binary nodes plus references.
     pub fn bytes(&self) -> usize {
         self.nodes.len() * core::mem::size_of::<Node>() + self.refs.len() * 4
+    }
+
+    /// Bytes of the four-wide nodes plus references.
+    pub fn wide_bytes(&self) -> usize {
+        self.wide.len() * core::mem::size_of::<Node4>() + self.refs.len() * 4
     }
 
     /// The root box, or `None` when empty.

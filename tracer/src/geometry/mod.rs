@@ -129,6 +129,8 @@ pub struct AccelOptions {
     /// SAH cost of visiting a BVH node relative to one primitive test: larger values
     /// give fewer nodes with more primitives each (less memory, faster build).
     pub traversal_cost: f32,
+    /// Traverse the four-wide BVH (`true`) or the binary one.
+    pub wide: bool,
 }
 
 impl Default for AccelOptions {
@@ -141,6 +143,7 @@ impl Default for AccelOptions {
             max_leaf_size: 8,
             parallel_build: true,
             traversal_cost: crate::bvh::build::TRAVERSAL_COST,
+            wide: true,
         }
     }
 }
@@ -166,8 +169,10 @@ pub struct GeometryStats {
     pub bvh_nodes: usize,
     /// BVH levels (1 for a single leaf).
     pub bvh_depth: usize,
-    /// Bytes of BVH nodes and references.
+    /// Bytes of the binary BVH nodes and references.
     pub bvh_bytes: usize,
+    /// Bytes of the four-wide BVH nodes and references.
+    pub bvh_wide_bytes: usize,
     /// Bytes of primitive data (kernel data, ids, materials, normals).
     pub prim_bytes: usize,
     /// Wall time of the whole build (conversion, triangulation, BVH, reordering), ms.
@@ -175,10 +180,11 @@ pub struct GeometryStats {
 }
 
 impl GeometryStats {
-    /// BVH plus primitive bytes per primitive in the BVH.
+    /// BVH (both trees) plus primitive bytes per primitive in the BVH.
     pub fn bytes_per_primitive(&self) -> f64 {
         let n = self.spheres + self.triangles + self.cones;
-        (self.bvh_bytes + self.prim_bytes) as f64 / n.max(1) as f64
+        let wide_nodes = self.bvh_wide_bytes.saturating_sub(4 * n);
+        (self.bvh_bytes + wide_nodes + self.prim_bytes) as f64 / n.max(1) as f64
     }
 }
 
@@ -217,6 +223,7 @@ const NO_HIT: u32 = u32::MAX;
 pub struct Geometry<T: Real> {
     prims: Prims<T>,
     bvh: Option<Bvh>,
+    wide: bool,
     triangle_test: TriangleTest,
     bounds: Aabb<T>,
     stats: GeometryStats,
@@ -269,12 +276,14 @@ impl<T: Real> Geometry<T> {
             bvh_nodes: bvh.as_ref().map_or(0, |b| b.nodes().len()),
             bvh_depth: bvh.as_ref().map_or(0, |b| b.depth()),
             bvh_bytes: bvh.as_ref().map_or(0, |b| b.bytes()),
+            bvh_wide_bytes: bvh.as_ref().map_or(0, |b| b.wide_bytes()),
             prim_bytes: prims.bytes(),
             build_ms: start.elapsed().as_secs_f64() * 1e3,
         };
         Self {
             prims,
             bvh,
+            wide: opts.wide,
             triangle_test: opts.triangle,
             bounds: Aabb::from_bounds(&total),
             stats,
@@ -437,7 +446,8 @@ impl<T: Real> Geometry<T> {
         }
         match &self.bvh {
             Some(bvh) => {
-                bvh.traverse::<T, false>(&rd.traversal, best.t, |refs, _| {
+                let t0 = best.t;
+                let leaf = |refs: &[u32], _| {
                     let mut improved = false;
                     for &r in refs {
                         if let Some(h) = self.test::<WATERTIGHT, KINDS>(r, &rd, best.t) {
@@ -445,7 +455,12 @@ impl<T: Real> Geometry<T> {
                         }
                     }
                     improved.then_some(best.t)
-                });
+                };
+                if self.wide {
+                    bvh.traverse4::<T, false>(&rd.traversal, t0, leaf);
+                } else {
+                    bvh.traverse::<T, false>(&rd.traversal, t0, leaf);
+                }
             }
             None => {
                 for r in self.all_refs() {
@@ -474,9 +489,14 @@ impl<T: Real> Geometry<T> {
             return true;
         }
         match &self.bvh {
-            Some(bvh) => bvh.traverse::<T, true>(&rd.traversal, limit, |refs, _| {
-                refs.iter().any(|&r| hits(r)).then_some(limit)
-            }),
+            Some(bvh) => {
+                let leaf = |refs: &[u32], _| refs.iter().any(|&r| hits(r)).then_some(limit);
+                if self.wide {
+                    bvh.traverse4::<T, true>(&rd.traversal, limit, leaf)
+                } else {
+                    bvh.traverse::<T, true>(&rd.traversal, limit, leaf)
+                }
+            }
             None => self.all_refs().any(hits),
         }
     }

@@ -1,0 +1,327 @@
+//! `tracer bench`: build time, ray-casting throughput by ray kind and frame time of a
+//! scene, as medians over repeated runs.
+//!
+//! The rays are those of a frame: eye rays through the pixel centres of the NFF camera,
+//! shadow rays from every eye hit toward the first light (offset off the surface as in
+//! shading), and mirror-reflection rays from every eye hit. Each kind is generated once,
+//! then cast `runs` times on the rayon pool in chunks of [`CHUNK`] rays; eye and
+//! reflection rays ask for the closest hit, shadow rays for any hit before the light.
+//! The frame is a full render (Whitted shading at the given depth) with the given
+//! scheduler. Nothing here asserts on time: it only reports.
+
+use crate::geometry::offset_ray;
+use crate::geometry::AccelOptions;
+use crate::ray::Ray;
+use crate::render::{render_with_stats, Schedule, Settings};
+use crate::scene::desc::SceneDesc;
+use crate::stats::process_cpu_ms;
+use crate::world::Scene;
+use rayon::prelude::*;
+use std::time::Instant;
+use vecexpr::{Expr, Real};
+
+/// Rays per parallel task when casting.
+pub const CHUNK: usize = 1024;
+
+/// What to measure.
+#[derive(Clone, Debug)]
+pub struct BenchOptions {
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// Maximum ray depth of the frame.
+    pub depth: u32,
+    /// Repetitions of each measurement; medians are reported.
+    pub runs: usize,
+    /// Worker threads (`None`: all cores).
+    pub threads: Option<usize>,
+    /// Frame scheduler.
+    pub schedule: Schedule,
+    /// Acceleration structure options.
+    pub accel: AccelOptions,
+}
+
+impl Default for BenchOptions {
+    /// 512x512, depth 5, 5 runs, all cores, default scheduler and BVH.
+    fn default() -> Self {
+        Self {
+            width: 512,
+            height: 512,
+            depth: 5,
+            runs: 5,
+            threads: None,
+            schedule: Schedule::default(),
+            accel: AccelOptions::default(),
+        }
+    }
+}
+
+/// One scene's results (times in milliseconds, medians).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct BenchRow {
+    /// Scene name.
+    pub scene: String,
+    /// Primitives in the BVH.
+    pub primitives: usize,
+    /// Geometry build (conversion, BVH, reordering).
+    pub build_ms: f64,
+    /// BVH nodes.
+    pub nodes: usize,
+    /// BVH and primitive bytes per primitive.
+    pub bytes_per_prim: f64,
+    /// Eye rays cast per run.
+    pub eye_rays: usize,
+    /// Eye rays: median time per run.
+    pub eye: Timing,
+    /// Shadow rays cast per run.
+    pub shadow_rays: usize,
+    /// Shadow rays: median time per run.
+    pub shadow: Timing,
+    /// Reflection rays cast per run.
+    pub reflect_rays: usize,
+    /// Reflection rays: median time per run.
+    pub reflect: Timing,
+    /// Full frame.
+    pub frame: Timing,
+    /// Rays of all kinds in one frame.
+    pub frame_rays: u64,
+}
+
+/// The median of `v` (0 for none).
+pub fn median(v: &mut [f64]) -> f64 {
+    if v.is_empty() {
+        return 0.0;
+    }
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
+}
+
+/// Median wall time and median process CPU time in ms of `runs` calls of `f`.
+fn time_median(runs: usize, mut f: impl FnMut()) -> Timing {
+    let (mut wall, mut cpu) = (Vec::new(), Vec::new());
+    for _ in 0..runs.max(1) {
+        let c = process_cpu_ms();
+        let s = Instant::now();
+        f();
+        wall.push(s.elapsed().as_secs_f64() * 1e3);
+        if let (Some(a), Some(b)) = (c, process_cpu_ms()) {
+            cpu.push(b - a);
+        }
+    }
+    Timing {
+        wall: median(&mut wall),
+        cpu: median(&mut cpu),
+    }
+}
+
+/// A median wall-clock and CPU time, in ms.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Timing {
+    /// Wall-clock time.
+    pub wall: f64,
+    /// CPU time of all threads (0 where unavailable).
+    pub cpu: f64,
+}
+
+fn mrays(n: usize, ms: f64) -> f64 {
+    if ms > 0.0 {
+        n as f64 / ms / 1e3
+    } else {
+        0.0
+    }
+}
+
+/// Measures one scene in precision `T` on the current rayon pool.
+pub fn bench_scene<T: Real>(name: &str, desc: &SceneDesc, opts: &BenchOptions) -> BenchRow {
+    let mut builds = Vec::new();
+    let mut scene = None;
+    for _ in 0..opts.runs.max(1) {
+        // Drop the previous scene first so peak memory stays that of one.
+        drop(scene.take());
+        let s = Instant::now();
+        let built = Scene::<T>::from_desc(desc, &opts.accel);
+        builds.push(s.elapsed().as_secs_f64() * 1e3);
+        scene = Some(built);
+    }
+    let scene = scene.expect("at least one build");
+    let g = scene.geometry.stats();
+    let (w, h) = (opts.width, opts.height);
+    let cam = scene.camera_for(w, h);
+
+    // Eye rays through pixel centres.
+    let eye: Vec<Ray<T>> = (0..h)
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .map(|(x, y)| {
+            let px = T::from_f64(x as f64 + 0.5);
+            let py = T::from_f64(y as f64 + 0.5);
+            Ray::new(cam.position, cam.direction(px, py))
+        })
+        .collect();
+    let mut hits = vec![None; eye.len()];
+    let cast_eye = |hits: &mut [Option<crate::ray::Hit<T>>]| {
+        hits.par_chunks_mut(CHUNK)
+            .zip(eye.par_chunks(CHUNK))
+            .for_each(|(hs, rs)| {
+                for (h, r) in hs.iter_mut().zip(rs) {
+                    *h = scene.intersect(r);
+                }
+            });
+    };
+    let eye_ms = time_median(opts.runs, || cast_eye(&mut hits));
+
+    // Shadow rays toward the first light and mirror rays, from every eye hit.
+    let light = scene.lights.first().map(|l| l.position);
+    let mut shadow: Vec<(Ray<T>, T)> = Vec::new();
+    let mut reflect: Vec<Ray<T>> = Vec::new();
+    for (r, h) in eye.iter().zip(&hits) {
+        let Some(h) = h else { continue };
+        let ng = if h.geometric_normal.dot(&r.dir) < T::ZERO {
+            h.geometric_normal
+        } else {
+            (-&h.geometric_normal).eval()
+        };
+        let above = offset_ray(&h.point, &ng, &ng);
+        if let Some(lp) = light {
+            let to = (&lp - &h.point).eval();
+            let dist = to.length();
+            if dist > T::ZERO && dist.is_finite() {
+                shadow.push((Ray::new(above, (&to).scale(dist.recip()).eval()), dist));
+            }
+        }
+        reflect.push(Ray::new(above, r.dir.reflect(&ng).normalize()));
+    }
+    let mut occluded = vec![false; shadow.len()];
+    let shadow_ms = time_median(opts.runs, || {
+        occluded
+            .par_chunks_mut(CHUNK)
+            .zip(shadow.par_chunks(CHUNK))
+            .for_each(|(os, rs)| {
+                for (o, (r, d)) in os.iter_mut().zip(rs) {
+                    *o = scene.occluded(r, *d);
+                }
+            });
+    });
+    let mut rhits = vec![None; reflect.len()];
+    let reflect_ms = time_median(opts.runs, || {
+        rhits
+            .par_chunks_mut(CHUNK)
+            .zip(reflect.par_chunks(CHUNK))
+            .for_each(|(hs, rs)| {
+                for (h, r) in hs.iter_mut().zip(rs) {
+                    *h = scene.intersect(r);
+                }
+            });
+    });
+
+    let settings = Settings {
+        width: Some(w),
+        height: Some(h),
+        depth: opts.depth,
+        threads: opts.threads,
+        schedule: opts.schedule,
+        ..Settings::default()
+    };
+    let (mut frames, mut frames_cpu) = (Vec::new(), Vec::new());
+    let mut frame_rays = 0;
+    for _ in 0..opts.runs.max(1) {
+        let (_, st) = render_with_stats(&scene, &settings);
+        frames.push(st.trace_ms);
+        frames_cpu.push(st.trace_cpu_ms);
+        frame_rays = st.rays.total();
+    }
+
+    BenchRow {
+        scene: name.to_string(),
+        primitives: g.spheres + g.triangles + g.cones,
+        build_ms: median(&mut builds),
+        nodes: g.bvh_nodes,
+        bytes_per_prim: g.bytes_per_primitive(),
+        eye_rays: eye.len(),
+        eye: eye_ms,
+        shadow_rays: shadow.len(),
+        shadow: shadow_ms,
+        reflect_rays: reflect.len(),
+        reflect: reflect_ms,
+        frame: Timing {
+            wall: median(&mut frames),
+            cpu: median(&mut frames_cpu),
+        },
+        frame_rays,
+    }
+}
+
+/// Reads the table printed by `povray-times` (`scene trace_s cpu_s rays shadow_rays`)
+/// into `(scene, trace ms)` pairs; lines that do not parse are skipped.
+pub fn parse_peer_times(text: &str) -> Vec<(String, f64)> {
+    text.lines()
+        .filter_map(|l| {
+            let mut f = l.split_whitespace();
+            let name = f.next()?;
+            let s: f64 = f.next()?.parse().ok()?;
+            Some((name.to_string(), s * 1e3))
+        })
+        .collect()
+}
+
+/// The Markdown table of `rows`, with the ratio peer frame time / tracer frame time
+/// where `peer` has the scene. Throughputs are rays per wall-clock second and, in
+/// parentheses, per CPU second of all threads together.
+pub fn table(rows: &[BenchRow], peer: &[(String, f64)]) -> String {
+    let mut s = String::from(
+        "| scene | prims | build ms | nodes | B/prim | eye Mrays/s | shadow Mrays/s \
+         | reflect Mrays/s | frame ms | frame CPU ms | frame Mrays/s | POV-Ray ms \
+         | POV-Ray / tracer |\n\
+         |---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+    );
+    let rate = |n: usize, t: &Timing| format!("{:.2} ({:.2})", mrays(n, t.wall), mrays(n, t.cpu));
+    for r in rows {
+        let p = peer.iter().find(|(n, _)| *n == r.scene).map(|p| p.1);
+        let (pm, ratio) = match p {
+            Some(ms) if r.frame.wall > 0.0 => {
+                (format!("{ms:.0}"), format!("{:.2}", ms / r.frame.wall))
+            }
+            _ => ("-".into(), "-".into()),
+        };
+        s += &format!(
+            "| {} | {} | {:.1} | {} | {:.1} | {} | {} | {} | {:.1} | {:.1} | {} | {} | {} |\n",
+            r.scene,
+            r.primitives,
+            r.build_ms,
+            r.nodes,
+            r.bytes_per_prim,
+            rate(r.eye_rays, &r.eye),
+            rate(r.shadow_rays, &r.shadow),
+            rate(r.reflect_rays, &r.reflect),
+            r.frame.wall,
+            r.frame.cpu,
+            rate(r.frame_rays as usize, &r.frame),
+            pm,
+            ratio
+        );
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn medians() {
+        assert_eq!(median(&mut []), 0.0);
+        assert_eq!(median(&mut [3.0, 1.0, 2.0]), 2.0);
+        assert_eq!(median(&mut [4.0, 1.0, 2.0, 3.0]), 2.5);
+    }
+
+    #[test]
+    fn peer_table_parses() {
+        let t = "scene trace_s cpu_s rays shadow_rays\nballs-s4 0.49 0.9 448962 950670\nbad\n";
+        assert_eq!(parse_peer_times(t), vec![("balls-s4".to_string(), 490.0)]);
+    }
+}

@@ -1,0 +1,320 @@
+//! Four-wide BVH: the binary tree collapsed two levels at a time, with the four child
+//! boxes of a node tested against a ray in one pass over `vecexpr` packets of four lanes.
+//!
+//! # Layout (128 bytes, two cache lines)
+//! ```text
+//! bounds[side][axis][lane]  f32 x 24  96 bytes  side 0 = lo, 1 = hi; SoA over the children
+//! child[lane]               u32 x 4   16 bytes  leaf: first index into `Bvh::refs`
+//!                                               interior: index of the child node
+//!                                               unused slot: EMPTY_SLOT
+//! count[lane]               u32 x 4   16 bytes  leaf: number of primitives; else 0
+//! ```
+//! Unused slots get the empty box (`lo = +inf`, `hi = -inf`), which no ray can enter, so
+//! the box test needs no special case for them.
+//!
+//! The collapse (in the spirit of Dammertz et al., "Shallow Bounding Volume Hierarchies
+//! for Fast SIMD Ray Tracing of Incoherent Rays", EGSR 2008, but keeping the binary SAH
+//! tree) makes the children of a wide node the grandchildren of its binary node, or
+//! the child itself where that child is a leaf. Each wide level thus spans exactly two
+//! binary levels, so a tree of binary depth [`super::build::MAX_DEPTH`] is at most half
+//! as deep, which bounds the traversal stack ([`STACK_SIZE`]).
+//!
+//! The box test is the same conservative slab test as the binary traversal (Ize 2013,
+//! see [`super::traverse`]), lane by lane: lane `i` of the packet computes exactly what
+//! `TraversalRay::hit_box` computes for child `i`, so both trees report the same
+//! candidate set up to the tree shape, and the closest-hit result (which the geometry
+//! makes independent of traversal order) is bit-identical.
+
+use super::node::Node;
+use super::traverse::TraversalRay;
+use super::Bvh;
+use vecexpr::typenum::U4;
+use vecexpr::{Mask, Packet, Real, Scalar};
+
+/// Children per node.
+pub const WIDTH: usize = 4;
+/// `child` of an unused slot.
+pub const EMPTY_SLOT: u32 = u32::MAX;
+/// Pending entries: at most three per wide level (the siblings of the path), and at
+/// most `MAX_DEPTH / 2` wide levels.
+pub const STACK_SIZE: usize = (WIDTH - 1) * (super::build::MAX_DEPTH / 2 + 1);
+
+/// One node of the four-wide BVH (see the module docs for the layout).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C, align(64))]
+pub struct Node4 {
+    /// `[lo, hi][axis][child]`, rounded outward to `f32`.
+    pub bounds: [[[f32; WIDTH]; 3]; 2],
+    /// Leaf: first reference; interior: node index; unused: [`EMPTY_SLOT`].
+    pub child: [u32; WIDTH],
+    /// Leaf: number of primitives (at least 1); interior or unused: 0.
+    pub count: [u32; WIDTH],
+}
+
+const _: () = assert!(core::mem::size_of::<Node4>() == 128);
+
+impl Node4 {
+    /// A node with every slot unused.
+    pub const EMPTY: Self = Self {
+        bounds: [[[f32::INFINITY; WIDTH]; 3], [[f32::NEG_INFINITY; WIDTH]; 3]],
+        child: [EMPTY_SLOT; WIDTH],
+        count: [0; WIDTH],
+    };
+
+    fn set(&mut self, lane: usize, b: &[[f32; 3]; 2], child: u32, count: u32) {
+        for (dst, src) in self.bounds.iter_mut().zip(b) {
+            for (d, &x) in dst.iter_mut().zip(src) {
+                d[lane] = x;
+            }
+        }
+        self.child[lane] = child;
+        self.count[lane] = count;
+    }
+}
+
+/// Collapses a depth-first binary tree (root at 0) into wide nodes, depth-first, root
+/// at 0. Returns the nodes and the depth in wide levels.
+pub fn collapse(bin: &[Node]) -> (Vec<Node4>, usize) {
+    let mut out = Vec::with_capacity(bin.len() / 2 + 1);
+    if bin.is_empty() {
+        return (out, 0);
+    }
+    let depth = emit(bin, 0, &mut out);
+    (out, depth)
+}
+
+/// Emits the wide node of binary node `at` and, recursively, its interior children.
+/// Returns the depth (levels) of the emitted subtree.
+fn emit(bin: &[Node], at: usize, out: &mut Vec<Node4>) -> usize {
+    let idx = out.len();
+    out.push(Node4::EMPTY);
+    let mut slots = [0usize; WIDTH];
+    let mut n = 0;
+    let node = &bin[at];
+    if node.is_leaf() {
+        slots[0] = at;
+        n = 1;
+    } else {
+        for c in [at + 1, node.offset as usize] {
+            if bin[c].is_leaf() {
+                slots[n] = c;
+                n += 1;
+            } else {
+                slots[n] = c + 1;
+                slots[n + 1] = bin[c].offset as usize;
+                n += 2;
+            }
+        }
+    }
+    let mut wide = Node4::EMPTY;
+    let mut depth = 1;
+    for (lane, &c) in slots[..n].iter().enumerate() {
+        let b = &bin[c];
+        if b.is_leaf() {
+            wide.set(lane, &b.bounds, b.offset, b.count);
+        } else {
+            let child = out.len() as u32;
+            depth = depth.max(1 + emit(bin, c, out));
+            wide.set(lane, &b.bounds, child, 0);
+        }
+    }
+    out[idx] = wide;
+    depth
+}
+
+type P4<T> = Packet<T, U4>;
+
+impl<T: Real> TraversalRay<T> {
+    /// The slab test of [`TraversalRay::hit_box`] for the four children of `node` at
+    /// once: per lane, whether the ray overlaps the box within `(t_min, t_max]`
+    /// (conservatively) and the entry distance.
+    #[inline(always)]
+    pub fn hit_box4(&self, node: &Node4, t_max: T) -> ([bool; WIDTH], [T; WIDTH]) {
+        let lanes = |v: &[f32; WIDTH]| P4::<T>::from_fn(|i| T::from_f64(f64::from(v[i])));
+        let mut t_near = P4::<T>::splat(self.t_min);
+        let mut t_far = P4::<T>::splat(t_max);
+        for a in 0..3 {
+            let n = self.neg[a] as usize;
+            let near = lanes(&node.bounds[n][a]);
+            let far = lanes(&node.bounds[1 - n][a]);
+            let o = P4::<T>::splat(self.origin[a]);
+            let inv = P4::<T>::splat(self.inv_dir[a]);
+            let tn = (near - o) * inv;
+            let tf = (far - o) * inv;
+            // minps/maxps rule per lane: a NaN `tn`/`tf` leaves the running value.
+            t_near = Scalar::max(tn, t_near);
+            t_far = Scalar::min(tf, t_far);
+        }
+        let hit = t_near.le(t_far * P4::<T>::splat(self.slack));
+        (
+            core::array::from_fn(|i| hit.test(i)),
+            core::array::from_fn(|i| t_near.lane(i)),
+        )
+    }
+}
+
+impl Bvh {
+    /// The four-wide tree, if one was built.
+    pub fn wide_nodes(&self) -> &[Node4] {
+        &self.wide
+    }
+
+    /// As [`Bvh::traverse`], over the four-wide tree: at each node the four child boxes
+    /// are tested in one packet, the hit children are visited nearest first and the
+    /// others pushed with their entry distances.
+    #[inline(always)]
+    pub fn traverse4<T: Real, const ANY_HIT: bool>(
+        &self,
+        ray: &TraversalRay<T>,
+        mut t_max: T,
+        mut leaf: impl FnMut(&[u32], T) -> Option<T>,
+    ) -> bool {
+        let nodes: &[Node4] = &self.wide;
+        if nodes.is_empty() {
+            return false;
+        }
+        // Entries: (child, count, entry distance); count 0 is an interior node.
+        let mut stack = [(0u32, 0u32, T::ZERO); STACK_SIZE];
+        let mut sp = 0usize;
+        let mut found = false;
+        let mut at = 0usize;
+        'walk: loop {
+            let node = &nodes[at];
+            let (hit, tn) = ray.hit_box4(node, t_max);
+            // Hit children sorted by entry distance (insertion sort of at most four).
+            let mut order = [0usize; WIDTH];
+            let mut k = 0;
+            for (i, &h) in hit.iter().enumerate() {
+                if h {
+                    let mut j = k;
+                    while j > 0 && tn[i] < tn[order[j - 1]] {
+                        order[j] = order[j - 1];
+                        j -= 1;
+                    }
+                    order[j] = i;
+                    k += 1;
+                }
+            }
+            // Push all but the nearest, farthest first, so pops come nearest first.
+            let mut next = None;
+            for (rank, &i) in order[..k].iter().enumerate().rev() {
+                if rank == 0 {
+                    next = Some((node.child[i], node.count[i]));
+                } else {
+                    stack[sp] = (node.child[i], node.count[i], tn[i]);
+                    sp += 1;
+                }
+            }
+            let mut entry = next;
+            loop {
+                match entry {
+                    Some((child, 0)) => {
+                        at = child as usize;
+                        continue 'walk;
+                    }
+                    Some((first, count)) => {
+                        let first = first as usize;
+                        let refs = &self.refs[first..first + count as usize];
+                        if let Some(t) = leaf(refs, t_max) {
+                            found = true;
+                            if ANY_HIT {
+                                return true;
+                            }
+                            t_max = t;
+                        }
+                    }
+                    None => {}
+                }
+                // Pop the nearest pending entry that may still hold a closer hit.
+                entry = None;
+                while sp > 0 {
+                    sp -= 1;
+                    let (c, n, t) = stack[sp];
+                    if t <= t_max * ray.slack {
+                        entry = Some((c, n));
+                        break;
+                    }
+                }
+                if entry.is_none() {
+                    return found;
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use vecexpr::vec3;
+
+    #[test]
+    fn packet_test_matches_the_scalar_test() {
+        let boxes = [
+            [[0.0f32, 0.0, 0.0], [1.0, 1.0, 1.0]],
+            [[2.0, -1.0, 0.0], [3.0, 1.0, 0.0]],
+            [[-5.0, -5.0, -5.0], [-4.0, -4.0, -4.0]],
+            [[0.0, 0.5, -1.0], [0.0, 0.5, 1.0]],
+        ];
+        let mut node = Node4::EMPTY;
+        for (i, b) in boxes.iter().enumerate() {
+            node.set(i, b, i as u32, 1);
+        }
+        for (o, d) in [
+            (vec3(-1.0f32, 0.5, 0.5), vec3(1.0, 0.0, 0.0)),
+            (vec3(-1.0, 0.5, 0.0), vec3(1.0, 0.0, 0.0)),
+            (vec3(0.0, 0.5, -2.0), vec3(0.0, 0.0, 1.0)),
+            (vec3(10.0, 10.0, 10.0), vec3(-1.0, -1.0, -1.0)),
+        ] {
+            let r = TraversalRay::new(&o, &d, 0.0);
+            for t_max in [f32::INFINITY, 1.5] {
+                let (hit, tn) = r.hit_box4(&node, t_max);
+                for (i, b) in boxes.iter().enumerate() {
+                    let scalar = r.hit_box(b, t_max);
+                    assert_eq!(scalar.is_some(), hit[i], "{o:?} {d:?} box {i}");
+                    if let Some(t) = scalar {
+                        assert_eq!(t, tn[i]);
+                    }
+                }
+            }
+        }
+        let r = TraversalRay::new(&vec3(0.0f64, 0.0, 0.0), &vec3(1.0, 1.0, 1.0), 0.0);
+        assert_eq!(r.hit_box4(&Node4::EMPTY, f64::INFINITY).0, [false; 4]);
+    }
+
+    #[test]
+    fn collapse_keeps_every_leaf_once() {
+        use crate::bvh::{Bounds3, BuildConfig, BuildPrim};
+        let mut prims: Vec<BuildPrim> = (0..300)
+            .map(|i| {
+                let x = (i * 7919 % 300) as f32;
+                BuildPrim::new(
+                    Bounds3 {
+                        lo: [x, (i % 17) as f32, 0.0],
+                        hi: [x + 0.5, (i % 17) as f32 + 0.5, 1.0],
+                    },
+                    i,
+                )
+            })
+            .collect();
+        let cfg = BuildConfig {
+            max_leaf_size: 4,
+            parallel: false,
+            traversal_cost: 2.0,
+        };
+        let bvh = Bvh::build(&mut prims, &cfg);
+        let mut seen = vec![0u32; prims.len()];
+        for n in bvh.wide_nodes() {
+            for i in 0..WIDTH {
+                if n.count[i] > 0 {
+                    for r in n.child[i]..n.child[i] + n.count[i] {
+                        seen[r as usize] += 1;
+                    }
+                }
+            }
+        }
+        assert!(seen.iter().all(|&s| s == 1));
+        assert!(bvh.wide_depth() * 2 >= bvh.depth() - 1);
+        assert!(bvh.wide_depth() <= bvh.depth().div_ceil(2));
+    }
+}
