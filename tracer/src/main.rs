@@ -1,4 +1,4 @@
-//! The `tracer` command line: `tracer render SCENE -o OUT [options]`.
+//! The `tracer` command line: `tracer render SCENE -o OUT [options]`, `tracer view SCENE`.
 //!
 //! Exit status 0 on success, 2 on bad input or a failed write, with one line
 //! `FILE:LINE: message` (or `FILE: message`) on stderr and no output file left behind.
@@ -29,6 +29,8 @@ struct Cli {
 enum Command {
     /// Render a scene (.nff, .nff.gz or .obj) to an image (.png or .pfm).
     Render(RenderArgs),
+    /// Open a window that renders SCENE continuously, with a camera to fly and live knobs.
+    View(tracer::viewer::ViewArgs),
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -116,6 +118,13 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
         Command::Render(args) => match run_render(&args) {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(msg) => {
+                eprintln!("{msg}");
+                ExitCode::from(2)
+            }
+        },
+        Command::View(args) => match tracer::viewer::run(&args) {
             Ok(()) => ExitCode::SUCCESS,
             Err(msg) => {
                 eprintln!("{msg}");
