@@ -2,7 +2,7 @@
 //!
 //! The pose is NFF's: eye $C_p$, a unit view direction $C_d$, the scene's up vector and
 //! the vertical angle of view. Each change is made along the axes of
-//! [`Camera`](crate::Camera): *move* along $C_d$, *strafe* along $C_l$ (to the image's
+//! [`Camera`]: *move* along $C_d$, *strafe* along $C_l$ (to the image's
 //! right), *rise* along $C_u$; *yaw* turns $C_d$ about the scene's up vector (so the
 //! horizon stays level), *pitch* about $C_l$, and *zoom* scales the angle of view.
 

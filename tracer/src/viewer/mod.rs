@@ -17,7 +17,7 @@
 //! winit 0.30 for the window and events, softbuffer 0.4 to show a CPU framebuffer, both
 //! built for X11 only. Both are pure Rust and load the X11 client libraries with `dlopen`
 //! at run time, so they build on a machine with no system packages beyond the toolchain.
-//! The lighter minifb (7 crates against about 40) was the other candidate, but it can only
+//! The lighter minifb (7 crates to build against 49) was the other candidate, but it can only
 //! poll for input: its loop wakes up at a fixed rate even when nothing happens. winit
 //! blocks until an event arrives, and the rendering thread wakes it through an event loop
 //! proxy when a frame is ready, so an idle viewer (still camera, converged image) uses no
@@ -341,5 +341,43 @@ pub fn median(xs: &[f64]) -> f64 {
         v[m]
     } else {
         0.5 * (v[m - 1] + v[m])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn median_of_odd_even_and_none() {
+        assert_eq!(median(&[3.0, 1.0, 2.0]), 2.0);
+        assert_eq!(median(&[4.0, 1.0, 3.0, 2.0]), 2.5);
+        assert_eq!(median(&[]), 0.0);
+    }
+
+    #[test]
+    fn benchmark_frames_alternate_between_two_close_views() {
+        let desc = crate::scene::desc::CameraDesc {
+            from: [0.0, -10.0, 0.0],
+            at: [0.0, 0.0, 0.0],
+            up: [0.0, 0.0, 1.0],
+            angle_deg: 45.0,
+            hither: 0.0,
+            resolution: (8, 8),
+        };
+        let home = FlyCamera::new(&desc);
+        let mut b = Bench::new(3);
+        let first = b.camera(&home);
+        b.record(PassStats::default(), 1.0);
+        let second = b.camera(&home);
+        b.record(PassStats::default(), 3.0);
+        assert_eq!(first, home);
+        assert_ne!(second, home);
+        let dx = second.desc().from[0] - desc.from[0];
+        assert!((dx - 0.01).abs() < 1e-12, "{dx}");
+        assert!(!b.done());
+        b.record(PassStats::default(), 2.0);
+        assert!(b.done());
+        assert_eq!(median(&b.frame_ms), 2.0);
     }
 }
