@@ -46,5 +46,6 @@ export DISPLAY=":$(head -n1 "$dfile")"
 echo "viewer-test: Xvfb on $DISPLAY"
 
 cd "$root"
-TRACER_VIEWER_REQUIRE_DISPLAY=1 cargo test -q -p tracer --test viewer -- \
+# --workspace: the same features as CI's `cargo test --workspace`, so nothing is rebuilt.
+TRACER_VIEWER_REQUIRE_DISPLAY=1 cargo test -q --workspace --test viewer -- \
   --exact windowed_script_matches_offline_render --nocapture

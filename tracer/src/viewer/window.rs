@@ -146,7 +146,7 @@ struct App {
 pub(crate) fn run(setup: Setup) -> Result<(), String> {
     let event_loop = EventLoop::<()>::with_user_event()
         .build()
-        .map_err(|e| format!("tracer view: cannot open a window: {e} (is DISPLAY set?)"))?;
+        .map_err(|e| format!("tracer view: cannot open a window: {e}"))?;
     let shared = Arc::new(Shared::default());
     let proxy = event_loop.create_proxy();
     let engine_size = setup.engine.size();
