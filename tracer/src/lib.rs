@@ -36,6 +36,7 @@ pub mod render;
 pub mod scene;
 pub mod shade;
 pub mod stats;
+pub mod viewer;
 pub mod world;
 
 pub use camera::Camera;

@@ -1,4 +1,4 @@
-//! The `tracer` command line: `tracer render SCENE -o OUT [options]`.
+//! The `tracer` command line: `tracer render SCENE -o OUT [options]`, `tracer view SCENE`.
 //!
 //! Exit status 0 on success, 2 on bad input or a failed write, with one line
 //! `FILE:LINE: message` (or `FILE: message`) on stderr and no output file left behind.
@@ -32,6 +32,8 @@ enum Command {
     Render(RenderArgs),
     /// Measure build time, ray throughput by kind and frame time of scenes.
     Bench(BenchArgs),
+    /// Open a window that renders SCENE continuously, with a camera to fly and live knobs.
+    View(tracer::viewer::ViewArgs),
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -209,6 +211,13 @@ fn main() -> ExitCode {
             }
         },
         Command::Bench(args) => match run_bench(&args) {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(msg) => {
+                eprintln!("{msg}");
+                ExitCode::from(2)
+            }
+        },
+        Command::View(args) => match tracer::viewer::run(&args) {
             Ok(()) => ExitCode::SUCCESS,
             Err(msg) => {
                 eprintln!("{msg}");

@@ -1,0 +1,329 @@
+//! The viewer: progressive rendering converges to the offline render bit for bit, the
+//! scripted and benchmark modes, bad input, and (when an X display is at hand, as under
+//! `tracer/scripts/viewer-test.sh`) a real window playing a camera path.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+use tracer::geometry::AccelOptions;
+use tracer::scene::desc::SceneDesc;
+use tracer::viewer::camera::FlyCamera;
+use tracer::viewer::engine::Engine;
+use tracer::viewer::knobs::{Knobs, Precision};
+use tracer::viewer::script;
+use tracer::{render, Image, Scene, Settings};
+
+fn scene_path(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenes")
+        .join(name)
+}
+
+fn path_file() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/viewer-path.txt")
+}
+
+fn tmpdir(tag: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("tracer-viewer-{tag}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn load(name: &str) -> SceneDesc {
+    tracer::scene::load(&scene_path(name)).unwrap()
+}
+
+/// `tracer render` of `desc` seen from `camera`, with `knobs`.
+fn offline(desc: &SceneDesc, camera: &FlyCamera, w: u32, h: u32, k: &Knobs) -> Image {
+    let mut desc = desc.clone();
+    desc.camera = camera.desc();
+    let settings = Settings {
+        width: Some(w),
+        height: Some(h),
+        aa: k.aa,
+        depth: k.depth,
+        threshold: k.threshold,
+        ..Settings::default()
+    };
+    match k.precision {
+        Precision::F32 => render(
+            &Scene::<f32>::from_desc(&desc, &AccelOptions::default()),
+            &settings,
+        ),
+        Precision::F64 => render(
+            &Scene::<f64>::from_desc(&desc, &AccelOptions::default()),
+            &settings,
+        ),
+    }
+}
+
+fn converge(engine: &mut Engine) -> Image {
+    while !engine.converged() {
+        engine.step();
+    }
+    engine.image()
+}
+
+#[test]
+fn progressive_passes_converge_to_the_offline_render() {
+    let desc = load("showcase.nff");
+    let mut cam = FlyCamera::new(&desc.camera);
+    cam.translate(1.0, -0.5, 0.25);
+    cam.turn(-6.0, 2.0);
+    for (precision, threads) in [(Precision::F32, 1), (Precision::F64, 2)] {
+        let k = Knobs {
+            aa: 3,
+            depth: 4,
+            threshold: 0.01,
+            precision,
+            threads,
+        };
+        let mut engine = Engine::new(
+            desc.clone(),
+            AccelOptions::default(),
+            40,
+            30,
+            Knobs { aa: 1, ..k },
+        )
+        .unwrap();
+        // A first view, then the moved camera: the change restarts the accumulation.
+        converge(&mut engine);
+        engine.set_view(&cam.desc(), &k).unwrap();
+        assert_eq!(engine.passes(), 0);
+        let first = engine.step();
+        assert_eq!(first.rays.eye, 40 * 30);
+        assert_eq!(engine.target_passes(), 9);
+        let img = converge(&mut engine);
+        assert_eq!(engine.passes(), 9);
+        let want = offline(&desc, &cam, 40, 30, &k);
+        assert!(img == want, "{precision}: progressive != offline render");
+    }
+}
+
+#[test]
+fn thread_count_does_not_change_the_image() {
+    let desc = load("balls-s1.nff");
+    let images: Vec<Image> = [1, 3]
+        .into_iter()
+        .map(|threads| {
+            let k = Knobs {
+                aa: 2,
+                threads,
+                ..Knobs::default()
+            };
+            let mut e = Engine::new(desc.clone(), AccelOptions::default(), 33, 17, k).unwrap();
+            converge(&mut e)
+        })
+        .collect();
+    assert!(images[0] == images[1]);
+}
+
+fn tracer() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_tracer"))
+}
+
+/// The camera and knobs at the end of the test path, applied to the scene's.
+fn scripted_view(desc: &SceneDesc, start: Knobs) -> (FlyCamera, Knobs) {
+    let steps = script::load(&path_file()).unwrap();
+    let mut cam = FlyCamera::new(&desc.camera);
+    let mut k = start;
+    for s in &steps {
+        s.apply(&mut cam, &mut k);
+    }
+    (cam, k)
+}
+
+/// Largest per-channel difference (8-bit levels) and share of pixels that differ.
+fn compare(a: &Image, b: &Image) -> (u8, f64) {
+    assert_eq!((a.width, a.height), (b.width, b.height));
+    let (a, b) = (a.to_rgb8(), b.to_rgb8());
+    let max = a.iter().zip(&b).map(|(x, y)| x.abs_diff(*y)).max().unwrap();
+    let px = a.chunks(3).zip(b.chunks(3)).filter(|(x, y)| x != y).count();
+    (max, px as f64 / (a.len() / 3) as f64)
+}
+
+/// The screenshot of a scripted run against the offline render of the path's last view.
+fn check_screenshot(shot: &Path) {
+    let desc = load("balls-s1.nff");
+    let start = Knobs {
+        aa: 1,
+        ..Knobs::default()
+    };
+    let (cam, k) = scripted_view(&desc, start);
+    assert_eq!((k.aa, k.depth), (2, 3));
+    let want = offline(&desc, &cam, 48, 36, &k);
+    let got = Image::read_png(shot).unwrap();
+    let (max, share) = compare(&got, &want);
+    println!("screenshot vs offline render: max difference {max}/255, {share:.4} of pixels differ");
+    assert!(max <= 1 && share <= 0.01, "max {max}, share {share}");
+}
+
+fn script_args(out: &Path) -> Vec<String> {
+    [
+        "view",
+        scene_path("balls-s1.nff").to_str().unwrap(),
+        "--width",
+        "48",
+        "--height",
+        "36",
+        "--aa",
+        "1",
+        "--threads",
+        "2",
+        "--script",
+        path_file().to_str().unwrap(),
+        "--screenshot",
+        out.to_str().unwrap(),
+    ]
+    .map(String::from)
+    .to_vec()
+}
+
+#[test]
+fn scripted_run_without_window_matches_offline_render() {
+    let d = tmpdir("script");
+    let shot = d.join("shot.png");
+    let out = tracer()
+        .args(script_args(&shot))
+        .arg("--no-window")
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    check_screenshot(&shot);
+}
+
+#[test]
+fn benchmark_mode_prints_the_median_frame_time() {
+    let out = tracer()
+        .args(["view"])
+        .arg(scene_path("tetra-s1.nff"))
+        .args([
+            "--width",
+            "32",
+            "--height",
+            "32",
+            "--frames",
+            "5",
+            "--no-window",
+        ])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("5 frames at 1 sample per pixel"), "{text}");
+    assert!(text.contains("median frame "), "{text}");
+    // 32 x 32 eye rays per frame, one pass each.
+    assert!(text.contains("eye 1024 "), "{text}");
+}
+
+#[test]
+fn bad_input_is_one_line_and_status_2() {
+    let d = tmpdir("bad");
+    let bad = d.join("path.txt");
+    std::fs::write(&bad, "move 1\nspin 3\n").unwrap();
+    let shot = d.join("shot.png");
+    let cases: Vec<(Vec<String>, String)> = vec![
+        (
+            vec![
+                "--script".into(),
+                bad.display().to_string(),
+                "--screenshot".into(),
+                shot.display().to_string(),
+            ],
+            format!("{}:2: unknown command `spin`", bad.display()),
+        ),
+        (
+            vec![
+                "--script".into(),
+                d.join("none.txt").display().to_string(),
+                "--screenshot".into(),
+                shot.display().to_string(),
+            ],
+            format!("{}: ", d.join("none.txt").display()),
+        ),
+        (
+            vec![
+                "--frames".into(),
+                "2".into(),
+                "--screenshot".into(),
+                "x.jpg".into(),
+            ],
+            "x.jpg: screenshot must end in .png".into(),
+        ),
+    ];
+    for (extra, want) in cases {
+        let out = tracer()
+            .arg("view")
+            .arg(scene_path("balls-s1.nff"))
+            .arg("--no-window")
+            .args(&extra)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{extra:?}: {err}");
+        assert_eq!(err.lines().count(), 1, "{err}");
+        assert!(err.starts_with(&want), "{err}");
+        assert!(!shot.exists());
+    }
+    let out = tracer()
+        .arg("view")
+        .arg(d.join("missing.nff"))
+        .args(["--frames", "1", "--no-window"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr)
+        .starts_with(&d.join("missing.nff").display().to_string()));
+}
+
+/// Set by `tracer/scripts/viewer-test.sh`, which starts Xvfb: a missing display is then
+/// a failure, not a skip.
+const REQUIRE: &str = "TRACER_VIEWER_REQUIRE_DISPLAY";
+
+#[test]
+fn windowed_script_matches_offline_render() {
+    let required = std::env::var_os(REQUIRE).is_some_and(|v| v == "1");
+    if std::env::var_os("DISPLAY").is_none_or(|d| d.is_empty()) {
+        assert!(!required, "{REQUIRE}=1 but DISPLAY is not set");
+        println!(
+            "SKIPPED windowed_script_matches_offline_render: no X display (DISPLAY is not \
+             set); tracer/scripts/viewer-test.sh runs it under Xvfb"
+        );
+        return;
+    }
+    let d = tmpdir("window");
+    let shot = d.join("shot.png");
+    let mut child = tracer()
+        .args(script_args(&shot))
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = Instant::now();
+    let status = loop {
+        if let Some(st) = child.try_wait().unwrap() {
+            break st;
+        }
+        if start.elapsed() > Duration::from_secs(60) {
+            let _ = child.kill();
+            panic!("the viewer did not finish its script within 60 s");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    if !status.success() && err.contains("cannot open a window") && !required {
+        println!(
+            "SKIPPED windowed_script_matches_offline_render: {}",
+            err.trim()
+        );
+        return;
+    }
+    assert!(status.success(), "{err}");
+    check_screenshot(&shot);
+}
