@@ -78,8 +78,8 @@ impl<T: Real> Cone<T> {
         let k = self.slope;
         // Solve from the point of the ray's line closest to the middle of the axis, then
         // add that point's parameter back: with a distant origin, $\rho = r_0 + k w_s$
-        // and $w_\perp$ are large and the terms of the discriminant cancel (the
-        // translation Haines et al. recommend for spheres, RTG ch. 7.2.3).
+        // and $w_\perp$ are large and the terms of the discriminant cancel (Haines et al.,
+        // RTG ch. 7, discuss moving the origin closer for spheres).
         let w0 = (r.origin - self.base).eval();
         let mid = (&self.axis).scale(self.height * <T as Real>::from_f64(0.5));
         let t_c = (mid - &w0).dot(&r.dir) * r.inv_dd;
