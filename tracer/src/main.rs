@@ -1,4 +1,5 @@
-//! The `tracer` command line: `tracer render SCENE -o OUT [options]`.
+//! The `tracer` command line: `tracer render SCENE -o OUT [options]`,
+//! `tracer accuracy SCENE... [-o REPORT_DIR]`.
 //!
 //! Exit status 0 on success, 2 on bad input or a failed write, with one line
 //! `FILE:LINE: message` (or `FILE: message`) on stderr and no output file left behind.
@@ -29,6 +30,8 @@ struct Cli {
 enum Command {
     /// Render a scene (.nff, .nff.gz or .obj) to an image (.png or .pfm).
     Render(RenderArgs),
+    /// Measure image error against render time for every cheaper setting of each knob.
+    Accuracy(tracer::accuracy::AccuracyArgs),
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -122,6 +125,13 @@ fn main() -> ExitCode {
                 ExitCode::from(2)
             }
         },
+        Command::Accuracy(args) => match tracer::accuracy::run(&args) {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(msg) => {
+                eprintln!("{msg}");
+                ExitCode::from(2)
+            }
+        },
     }
 }
 
@@ -170,6 +180,7 @@ fn run_render(args: &RenderArgs) -> Result<(), String> {
         threads: args.threads.map(|t| t as usize),
         spd: args.spd,
         progress: true,
+        ..Settings::default()
     };
     let accel = AccelOptions {
         use_bvh: !args.no_bvh,

@@ -4,6 +4,7 @@
 //! sequential code whatever thread runs it, and ray counts are summed as integers, so the
 //! image and the statistics are identical bit for bit for any thread count.
 
+use crate::arith::Arith;
 use crate::image::Image;
 use crate::ray::Ray;
 use crate::shade::{trace, TraceLimits};
@@ -35,6 +36,8 @@ pub struct Settings {
     pub spd: bool,
     /// Show a progress bar on a terminal.
     pub progress: bool,
+    /// Approximate arithmetic in shading (default: exact).
+    pub arith: Arith,
 }
 
 impl Default for Settings {
@@ -48,6 +51,7 @@ impl Default for Settings {
             threads: None,
             spd: false,
             progress: false,
+            arith: Arith::EXACT,
         }
     }
 }
@@ -66,12 +70,14 @@ impl Settings {
                 max_depth: 5,
                 threshold: T::ZERO,
                 spd: true,
+                arith: self.arith,
             }
         } else {
             TraceLimits {
                 max_depth: self.depth.max(1),
                 threshold: T::from_f64(self.threshold.max(0.0)),
                 spd: false,
+                arith: self.arith,
             }
         }
     }

@@ -6,6 +6,7 @@
 //! over the visible lights $l$, with $R = 2N(N \cdot L) - L$ the mirrored light direction.
 //! Escaping rays see the background colour.
 
+use crate::arith::Arith;
 use crate::ray::{Hit, Ray};
 use crate::stats::RayCounts;
 use crate::world::Scene;
@@ -22,6 +23,8 @@ pub struct TraceLimits<T: Real> {
     pub threshold: T,
     /// SPD rules: transmitting surfaces spawn a reflection ray even when `Ks` is 0.
     pub spd: bool,
+    /// Approximate arithmetic in shading (exact by default).
+    pub arith: Arith,
 }
 
 /// Offsets a ray origin off the surface along the face normal, by a distance that scales
@@ -75,6 +78,7 @@ pub fn shade<T: Real>(
     };
     let p = &hit.point;
     let v = (-d).eval();
+    let ar = &limits.arith;
 
     // Ambient.
     let mut color = (&m.color).scale(m.ka).eval();
@@ -83,11 +87,10 @@ pub fn shade<T: Real>(
     let above = offset_origin(p, &ng);
     for light in &scene.lights {
         let to_light = (&light.position - p).eval();
-        let dist = to_light.length();
+        let (l, dist) = ar.unit_and_length(&to_light);
         if dist.is_nan() || dist <= T::ZERO {
             continue;
         }
-        let l = (&to_light).scale(dist.recip()).eval();
         // No shadow ray toward a light behind the surface or without intensity.
         if ng.dot(&l) <= T::ZERO || light.intensity.max_element() <= T::ZERO {
             continue;
@@ -97,16 +100,17 @@ pub fn shade<T: Real>(
         if scene.occluded(&shadow, dist) {
             continue;
         }
-        let ndotl = ns.dot(&l).max(T::ZERO);
+        let ndotl = ar.dot(&ns, &l).max(T::ZERO);
         if m.kd > T::ZERO && ndotl > T::ZERO {
-            color += (&m.color * &light.intensity).scale(m.kd * ndotl);
+            let c = (&m.color * &light.intensity).eval();
+            ar.add_scaled(&mut color, &c, m.kd * ndotl);
         }
         if m.ks > T::ZERO {
             // R = 2 N (N·L) - L, the mirror direction of the light.
-            let r = (-&l).reflect(&ns);
-            let rv = r.dot(&v);
+            let r = ar.reflect(&(-&l).eval(), &ns);
+            let rv = ar.dot(&r, &v);
             if rv > T::ZERO {
-                color += (&light.intensity).scale(m.ks * rv.powf(m.shine));
+                ar.add_scaled(&mut color, &light.intensity, m.ks * ar.pow(rv, m.shine));
             }
         }
     }
@@ -124,9 +128,9 @@ pub fn shade<T: Real>(
             Some(t_dir) if wanted(weight * m.kt, limits) => {
                 counts.refraction += 1;
                 let below = offset_origin(p, &(-&ng).eval());
-                let r = Ray::new(below, t_dir.normalize());
+                let r = Ray::new(below, ar.normalize(&t_dir));
                 let c = trace(scene, &r, depth + 1, weight * m.kt, limits, counts);
-                color += (&c * &m.color).scale(m.kt);
+                ar.add_scaled(&mut color, &(&c * &m.color).eval(), m.kt);
             }
             Some(_) => {}
             None => kr += m.kt,
@@ -135,9 +139,9 @@ pub fn shade<T: Real>(
     let spawn_reflection = kr > T::ZERO || (limits.spd && m.kt > T::ZERO);
     if spawn_reflection && wanted(weight * kr, limits) {
         counts.reflection += 1;
-        let r = Ray::new(above, d.reflect(&ns).normalize());
+        let r = Ray::new(above, ar.normalize(&ar.reflect(d, &ns)));
         let c = trace(scene, &r, depth + 1, weight * kr, limits, counts);
-        color += c.scale(kr);
+        ar.add_scaled(&mut color, &c, kr);
     }
     color
 }
