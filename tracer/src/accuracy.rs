@@ -127,6 +127,46 @@ impl Knob {
     }
 }
 
+/// What a setting's time is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Clock {
+    /// CPU time of the whole process (all threads) during the trace: on a machine shared
+    /// with other work it counts only this process's computing, not its waiting.
+    Cpu,
+    /// Wall-clock trace time.
+    Wall,
+}
+
+impl Clock {
+    /// `cpu` or `wall`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Clock::Cpu => "cpu",
+            Clock::Wall => "wall",
+        }
+    }
+}
+
+/// CPU time consumed so far by this process, all threads, in milliseconds (`None` where
+/// the platform offers no process CPU clock).
+pub fn process_cpu_ms() -> Option<f64> {
+    #[cfg(unix)]
+    {
+        let mut ts = libc::timespec {
+            tv_sec: 0,
+            tv_nsec: 0,
+        };
+        // SAFETY: `clock_gettime` writes one `timespec` through the valid, exclusive
+        // pointer it is given and keeps no reference to it.
+        let rc = unsafe { libc::clock_gettime(libc::CLOCK_PROCESS_CPUTIME_ID, &mut ts) };
+        (rc == 0).then_some(ts.tv_sec as f64 * 1e3 + ts.tv_nsec as f64 * 1e-6)
+    }
+    #[cfg(not(unix))]
+    {
+        None
+    }
+}
+
 /// Options of a measurement.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Options {
@@ -148,6 +188,8 @@ pub struct Options {
     pub max_aa: u32,
     /// Adaptive thresholds measured.
     pub thresholds: Vec<f64>,
+    /// The clock that times settings (CPU falls back to wall where unavailable).
+    pub clock: Clock,
 }
 
 impl Default for Options {
@@ -162,6 +204,7 @@ impl Default for Options {
             fine_aa: 16,
             max_aa: 4,
             thresholds: vec![1e-1, 1e-2, 1e-3, 1e-4],
+            clock: Clock::Cpu,
         }
     }
 }
@@ -371,8 +414,10 @@ pub fn pareto(points: &[(f64, f64)]) -> Vec<bool> {
 pub struct Row {
     /// What was rendered.
     pub case: Case,
-    /// Trace time of each run, in milliseconds.
+    /// Time of each run by the report's clock, in milliseconds.
     pub times_ms: Vec<f64>,
+    /// Wall-clock trace time of each run, in milliseconds.
+    pub wall_ms: Vec<f64>,
     /// All rays traced in one render.
     pub rays: u64,
     /// Error against the reference (or the fine reference for antialiasing).
@@ -415,8 +460,10 @@ pub struct SceneReport {
     pub options: Options,
     /// The measured settings, in [`Options::cases`] order.
     pub rows: Vec<Row>,
-    /// Trace time of the single render of the fine reference.
+    /// Time of the single render of the fine reference.
     pub fine_ms: f64,
+    /// The clock actually used.
+    pub clock: Clock,
     /// The reference image.
     pub reference: Image,
 }
@@ -452,12 +499,23 @@ pub fn measure(
     let h = options.height.unwrap_or_else(|| {
         ((f64::from(w) * f64::from(sh.max(1)) / f64::from(sw.max(1))).round() as u32).max(1)
     });
+    let clock = match options.clock {
+        Clock::Cpu if process_cpu_ms().is_some() => Clock::Cpu,
+        _ => Clock::Wall,
+    };
+    // The image, the rays, the wall trace time and the time by `clock`.
     let render = |cfg: &Config| {
         let s = settings(cfg, w, h, options.threads);
-        match cfg.precision {
+        let cpu0 = process_cpu_ms();
+        let (image, stats) = match cfg.precision {
             Precision::F32 => render_with_stats(&s32, &s),
             Precision::F64 => render_with_stats(&s64, &s),
-        }
+        };
+        let t = match (clock, cpu0, process_cpu_ms()) {
+            (Clock::Cpu, Some(a), Some(b)) => b - a,
+            _ => stats.trace_ms,
+        };
+        (image, stats, t)
     };
 
     let cases = options.cases();
@@ -478,9 +536,10 @@ pub fn measure(
         "{name}: fine reference ({0}x{0} rays per pixel, {w}x{h})",
         options.fine_aa
     ));
-    let (fine, fine_stats) = render(&options.fine_reference());
+    let (fine, _, fine_ms) = render(&options.fine_reference());
 
     let mut times = vec![Vec::with_capacity(options.runs); configs.len()];
+    let mut walls = times.clone();
     let mut first: Vec<Option<(Image, u64)>> = vec![None; configs.len()];
     let mut rerendered_reference = None;
     for run in 0..options.runs {
@@ -495,8 +554,9 @@ pub fn measure(
         let n = configs.len();
         for j in 0..n {
             let i = (j + run * n / options.runs) % n;
-            let (image, stats) = render(&configs[i]);
-            times[i].push(stats.trace_ms);
+            let (image, stats, t) = render(&configs[i]);
+            times[i].push(t);
+            walls[i].push(stats.trace_ms);
             if first[i].is_none() {
                 first[i] = Some((image, stats.rays.total()));
             } else if i == index[0] {
@@ -522,6 +582,7 @@ pub fn measure(
             Row {
                 case,
                 times_ms: times[i].clone(),
+                wall_ms: walls[i].clone(),
                 rays: *rays,
                 metrics,
                 pareto: false,
@@ -547,7 +608,8 @@ pub fn measure(
         height: h,
         options: options.clone(),
         rows,
-        fine_ms: fine_stats.trace_ms,
+        fine_ms,
+        clock,
         reference,
     })
 }
@@ -599,6 +661,13 @@ impl SceneReport {
         self.rows.iter().find(|r| r.case.label == label)
     }
 
+    fn clock_text(&self) -> &'static str {
+        match self.clock {
+            Clock::Cpu => "the process's CPU time (all threads) during the trace",
+            Clock::Wall => "the wall-clock trace time",
+        }
+    }
+
     fn reference_ms(&self) -> f64 {
         self.rows[0].median_ms()
     }
@@ -607,7 +676,7 @@ impl SceneReport {
     pub fn to_csv(&self) -> String {
         let mut s = String::from(
             "scene,width,height,knob,setting,precision,depth,threshold,aa,rsqrt,int_pow,fma,\
-             against,runs,median_ms,min_ms,max_ms,time_vs_reference,rays,rmse,psnr_db,\
+             against,runs,clock,median_ms,min_ms,max_ms,median_wall_ms,time_vs_reference,rays,rmse,psnr_db,\
              max_abs,share_over_1_255,pareto\n",
         );
         let ref_ms = self.reference_ms();
@@ -617,7 +686,7 @@ impl SceneReport {
             let max = r.times_ms.iter().copied().fold(0.0, f64::max);
             let _ = writeln!(
                 s,
-                "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.4},{},{:.6e},{},{:.6e},{:.6},{}",
+                "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{:.4},{},{:.6e},{},{:.6e},{:.6},{}",
                 self.name,
                 self.width,
                 self.height,
@@ -632,9 +701,11 @@ impl SceneReport {
                 c.arith.fma,
                 if r.case.fine { "fine" } else { "reference" },
                 r.times_ms.len(),
+                self.clock.name(),
                 r.median_ms(),
                 min,
                 max,
+                median(&r.wall_ms),
                 r.median_ms() / ref_ms,
                 r.rays,
                 r.metrics.rmse,
@@ -785,8 +856,8 @@ impl SceneReport {
         let _ = writeln!(s, "# Accuracy against time: {}\n", self.name);
         let _ = writeln!(
             s,
-            "Scene `{}`, {}x{} pixels, {} timed runs per setting (median trace time, \
-             interleaved), threads: {}. Reference: f64, depth {}, {}x{} rays per pixel, \
+            "Scene `{}`, {}x{} pixels, {} timed runs per setting (interleaved), threads: {}. \
+             Times are medians of {}. Reference: f64, depth {}, {}x{} rays per pixel, \
              exact arithmetic ({} ms). Antialiasing rows are compared with a {}x{} render \
              instead ({} ms, one run). Every other row changes one knob of the reference. \
              Hardware FMA in this build: {}.\n",
@@ -796,6 +867,7 @@ impl SceneReport {
             o.runs,
             o.threads
                 .map_or_else(|| "all cores".to_string(), |t| t.to_string()),
+            self.clock_text(),
             o.ref_depth,
             o.ref_aa,
             o.ref_aa,
@@ -815,17 +887,22 @@ impl SceneReport {
         }
         let _ = writeln!(
             s,
-            "\n## Table\n\n`time` is the median trace time relative to the reference; \
+            "\n## Table\n\n`ms`: median {} time; `wall ms`: median wall-clock trace time; \
+             `time`: `ms` relative to the reference; \
              `>1/255` the share of pixels with a channel off by more than one 8-bit step; \
              `spread`: (slowest - fastest run) / median; \
              `front`: on the Pareto front of RMSE against time (antialiasing rows among \
-             themselves).\n"
+             themselves).\n",
+            self.clock.name()
         );
         let _ = writeln!(
             s,
-            "| knob | setting | median ms | spread | time | rays | RMSE | PSNR dB | max abs | >1/255 | front |"
+            "| knob | setting | ms | spread | wall ms | time | rays | RMSE | PSNR dB | max abs | >1/255 | front |"
         );
-        let _ = writeln!(s, "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|:---:|");
+        let _ = writeln!(
+            s,
+            "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|:---:|"
+        );
         let ref_ms = self.reference_ms();
         for r in &self.rows {
             let m = &r.metrics;
@@ -833,11 +910,12 @@ impl SceneReport {
             let hi = r.times_ms.iter().copied().fold(0.0, f64::max);
             let _ = writeln!(
                 s,
-                "| {} | {} | {} | {}% | {} | {} | {} | {} | {} | {}% | {} |",
+                "| {} | {} | {} | {}% | {} | {} | {} | {} | {} | {} | {}% | {} |",
                 r.case.knob.name(),
                 r.case.label,
                 sig3(r.median_ms()),
                 sig3(100.0 * (hi - lo) / r.median_ms()),
+                sig3(median(&r.wall_ms)),
                 sig3(r.median_ms() / ref_ms),
                 r.rays,
                 sig3(m.rmse),
@@ -866,10 +944,11 @@ impl SceneReport {
         let _ = writeln!(
             s,
             "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n<text x=\"{}\" y=\"18\" \
-             text-anchor=\"middle\" font-size=\"14\">{}: RMSE against median trace time \
+             text-anchor=\"middle\" font-size=\"14\">{}: RMSE against median {} time \
              ({}x{} px)</text>",
             pw,
             xml(&self.name),
+            self.clock.name(),
             self.width,
             self.height
         );
@@ -883,7 +962,8 @@ impl SceneReport {
                     self.options.ref_depth, self.options.ref_aa, self.options.ref_aa
                 )
             };
-            plot_panel(&mut s, k as f64 * pw, 30.0, pw, ph, &title, &rows);
+            let axis = format!("median {} time, ms (log)", self.clock.name());
+            plot_panel(&mut s, (k as f64 * pw, 30.0, pw, ph), &title, &axis, &rows);
         }
         s.push_str("</svg>\n");
         s
@@ -920,7 +1000,8 @@ fn log_ticks(lo: f64, hi: f64) -> Vec<f64> {
     }
 }
 
-fn plot_panel(s: &mut String, x0: f64, y0: f64, w: f64, h: f64, title: &str, rows: &[&Row]) {
+fn plot_panel(s: &mut String, frame: (f64, f64, f64, f64), title: &str, axis: &str, rows: &[&Row]) {
+    let (x0, y0, w, h) = frame;
     let (ml, mr, mt, mb) = (62.0, 14.0, 24.0, 40.0);
     let (left, right, top, bottom) = (x0 + ml, x0 + w - mr, y0 + mt, y0 + h - mb);
     let _ = writeln!(
@@ -988,10 +1069,11 @@ fn plot_panel(s: &mut String, x0: f64, y0: f64, w: f64, h: f64, title: &str, row
     }
     let _ = writeln!(
         s,
-        "<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">median trace time, ms (log)</text>\
+        "<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">{}</text>\
          <text x=\"{}\" y=\"{}\" text-anchor=\"middle\" transform=\"rotate(-90 {} {})\">RMSE (log; 0 on the axis)</text>",
         (left + right) / 2.0,
         bottom + 30.0,
+        xml(axis),
         x0 + 14.0,
         (top + bottom) / 2.0,
         x0 + 14.0,
@@ -1071,7 +1153,8 @@ fn plot_panel(s: &mut String, x0: f64, y0: f64, w: f64, h: f64, title: &str, row
 pub fn summary(reports: &[SceneReport]) -> (String, String) {
     let mut md = String::from(
         "# Accuracy against time: summary\n\n\
-         Times are median trace times relative to the named baseline; errors are RMSE \
+         Times are medians (of the clock each scene's table names) relative to the named \
+         baseline; errors are RMSE \
          against the reference (antialiasing: against the fine reference).\n\n\
          | scene | image | reference ms | f64 / f32 time | f32 RMSE | f32 >1/255 | depth 5 RMSE | \
          threshold ≈ depth 5 (time vs depth 5) | aa 1 : 2 : 3 : 4 time | aa 1 → 4 RMSE | \
@@ -1229,6 +1312,9 @@ pub struct AccuracyArgs {
     /// Largest antialiasing grid measured (1 to this).
     #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(1..=64))]
     pub max_aa: u32,
+    /// Time settings by process CPU time (robust on a shared machine) or wall clock.
+    #[arg(long, value_enum, default_value_t = Clock::Cpu)]
+    pub clock: Clock,
 }
 
 impl AccuracyArgs {
@@ -1243,6 +1329,7 @@ impl AccuracyArgs {
             ref_aa: self.ref_aa,
             fine_aa: self.fine_aa,
             max_aa: self.max_aa,
+            clock: self.clock,
             ..Options::default()
         }
     }
