@@ -25,6 +25,8 @@
 //! assert_eq!((image.width, image.height), (32, 32));
 //! ```
 
+pub mod accuracy;
+pub mod arith;
 pub mod bench;
 pub mod bvh;
 pub mod camera;

@@ -1,4 +1,5 @@
-//! The `tracer` command line: `tracer render SCENE -o OUT [options]`, `tracer view SCENE`.
+//! The `tracer` command line: `tracer render SCENE -o OUT [options]`, `tracer view SCENE`,
+//! `tracer bench SCENE...`, `tracer accuracy SCENE... [-o REPORT_DIR]`.
 //!
 //! Exit status 0 on success, 2 on bad input or a failed write, with one line
 //! `FILE:LINE: message` (or `FILE: message`) on stderr and no output file left behind.
@@ -34,6 +35,8 @@ enum Command {
     Bench(BenchArgs),
     /// Open a window that renders SCENE continuously, with a camera to fly and live knobs.
     View(tracer::viewer::ViewArgs),
+    /// Measure image error against render time for every cheaper setting of each knob.
+    Accuracy(tracer::accuracy::AccuracyArgs),
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -224,6 +227,13 @@ fn main() -> ExitCode {
                 ExitCode::from(2)
             }
         },
+        Command::Accuracy(args) => match tracer::accuracy::run(&args) {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(msg) => {
+                eprintln!("{msg}");
+                ExitCode::from(2)
+            }
+        },
     }
 }
 
@@ -333,6 +343,7 @@ fn run_render(args: &RenderArgs) -> Result<(), String> {
             Effects::All => EffectsMode::All,
         },
         schedule: args.schedule.schedule(),
+        ..Settings::default()
     };
     let accel = AccelOptions {
         use_bvh: !args.no_bvh,

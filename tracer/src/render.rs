@@ -8,6 +8,7 @@
 //! the image and the statistics are identical bit for bit for any thread count and any
 //! scheduler.
 
+use crate::arith::Arith;
 use crate::effects::{self, has, EffectChoice, EffectFn, EffectSet, EffectsMode, SUPERSAMPLING};
 use crate::image::Image;
 use crate::ray::Ray;
@@ -46,6 +47,8 @@ pub struct Settings {
     pub effects: EffectsMode,
     /// How pixels are distributed over threads.
     pub schedule: Schedule,
+    /// Approximate arithmetic in shading (default: exact).
+    pub arith: Arith,
 }
 
 /// The parallel scheduler.
@@ -92,6 +95,7 @@ impl Default for Settings {
             progress: false,
             effects: EffectsMode::Auto,
             schedule: Schedule::default(),
+            arith: Arith::EXACT,
         }
     }
 }
@@ -110,12 +114,14 @@ impl Settings {
                 max_depth: 5,
                 threshold: T::ZERO,
                 spd: true,
+                arith: self.arith,
             }
         } else {
             TraceLimits {
                 max_depth: self.depth.max(1),
                 threshold: T::from_f64(self.threshold.max(0.0)),
                 spd: false,
+                arith: self.arith,
             }
         }
     }

@@ -6,6 +6,7 @@
 //! over the visible lights $l$, with $R = 2N(N \cdot L) - L$ the mirrored light direction.
 //! Escaping rays see the background colour.
 
+use crate::arith::Arith;
 use crate::effects::{self, has, ADAPTIVE, REFLECTION, REFRACTION, SHADOWS, SPECULAR};
 use crate::geometry::offset_ray;
 use crate::ray::{Hit, Ray};
@@ -24,6 +25,8 @@ pub struct TraceLimits<T: Real> {
     pub threshold: T,
     /// SPD rules: transmitting surfaces spawn a reflection ray even when `Ks` is 0.
     pub spd: bool,
+    /// Approximate arithmetic in shading (exact by default).
+    pub arith: Arith,
 }
 
 /// Traces `ray` at `depth` (1 for eye rays) with accumulated `weight`, returning its
@@ -100,6 +103,7 @@ pub fn shade_fx<T: Real, const FX: u32>(
     };
     let p = &hit.point;
     let v = (-d).eval();
+    let ar = &limits.arith;
 
     // Ambient.
     let mut color = (&m.color).scale(m.ka).eval();
@@ -113,11 +117,10 @@ pub fn shade_fx<T: Real, const FX: u32>(
                 continue;
             }
             let to_light = (&light.position - p).eval();
-            let dist = to_light.length();
+            let (l, dist) = ar.unit_and_length(&to_light);
             if dist.is_nan() || dist <= T::ZERO {
                 continue;
             }
-            let l = (&to_light).scale(dist.recip()).eval();
             // ... or behind the surface.
             if ng.dot(&l) <= T::ZERO {
                 continue;
@@ -127,16 +130,17 @@ pub fn shade_fx<T: Real, const FX: u32>(
             if scene.occluded_kinds::<FX>(&shadow, dist) {
                 continue;
             }
-            let ndotl = ns.dot(&l).max(T::ZERO);
+            let ndotl = ar.dot(&ns, &l).max(T::ZERO);
             if m.kd > T::ZERO && ndotl > T::ZERO {
-                color += (&m.color * &light.intensity).scale(m.kd * ndotl);
+                let c = (&m.color * &light.intensity).eval();
+                ar.add_scaled(&mut color, &c, m.kd * ndotl);
             }
             if has(FX, SPECULAR) && m.ks > T::ZERO {
                 // R = 2 N (N·L) - L, the mirror direction of the light.
-                let r = (-&l).reflect(&ns);
-                let rv = r.dot(&v);
+                let r = ar.reflect(&(-&l).eval(), &ns);
+                let rv = ar.dot(&r, &v);
                 if rv > T::ZERO {
-                    color += (&light.intensity).scale(m.ks * rv.powf(m.shine));
+                    ar.add_scaled(&mut color, &light.intensity, m.ks * ar.pow(rv, m.shine));
                 }
             }
         }
@@ -154,10 +158,10 @@ pub fn shade_fx<T: Real, const FX: u32>(
         match d.refract(&ns, eta) {
             Some(t_dir) if wanted::<T, FX>(weight * m.kt, limits) => {
                 counts.refraction += 1;
-                let t_dir = t_dir.normalize();
+                let t_dir = ar.normalize(&t_dir);
                 let r = Ray::new(offset_ray(p, &ng, &t_dir), t_dir);
                 let c = trace_fx::<T, FX>(scene, &r, depth + 1, weight * m.kt, limits, counts);
-                color += (&c * &m.color).scale(m.kt);
+                ar.add_scaled(&mut color, &(&c * &m.color).eval(), m.kt);
             }
             Some(_) => {}
             None => kr += m.kt,
@@ -166,10 +170,10 @@ pub fn shade_fx<T: Real, const FX: u32>(
     let spawn_reflection = kr > T::ZERO || (limits.spd && m.kt > T::ZERO);
     if has(FX, REFLECTION) && spawn_reflection && wanted::<T, FX>(weight * kr, limits) {
         counts.reflection += 1;
-        let r_dir = d.reflect(&ns).normalize();
+        let r_dir = ar.normalize(&ar.reflect(d, &ns));
         let r = Ray::new(offset_ray(p, &ng, &r_dir), r_dir);
         let c = trace_fx::<T, FX>(scene, &r, depth + 1, weight * kr, limits, counts);
-        color += c.scale(kr);
+        ar.add_scaled(&mut color, &c, kr);
     }
     color
 }

@@ -730,6 +730,7 @@ fn lone_convex_objects_have_no_self_shadowed_pixel() {
                 max_depth: 1,
                 threshold: 0.0,
                 spd: false,
+                arith: tracer::arith::Arith::EXACT,
             };
             let (mut lit, mut shadowed) = (0, 0);
             for y in 0..48 {
@@ -770,6 +771,7 @@ fn limits<T: Real>(max_depth: u32) -> TraceLimits<T> {
         max_depth,
         threshold: T::ZERO,
         spd: false,
+        arith: tracer::arith::Arith::EXACT,
     }
 }
 

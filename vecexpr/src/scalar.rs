@@ -226,6 +226,22 @@ pub trait Real: Scalar<Elem = Self, Mask = bool> + PartialOrd + core::fmt::Displ
     fn next_up(self) -> Self;
     /// The next representable value toward −∞ (identity on −∞ and NaN).
     fn next_down(self) -> Self;
+    /// An approximate $1 / \sqrt{x}$: the integer "magic constant" estimate refined by
+    /// one Newton–Raphson step $y (3/2 - x y^2 / 2)$, with no square root or division.
+    ///
+    /// The constants are Lomont's (C. Lomont, "Fast inverse square root", 2003:
+    /// `0x5f375a86` for `f32`, `0x5fe6eb50c7b537a9` for `f64`); the relative error is at
+    /// most about 1.8e-3 in either precision, so it is an approximation for speed, not a
+    /// replacement for `sqrt().recip()`. Meant for positive normal `x`: zero gives a large
+    /// finite value, negative input and NaN give NaN or garbage.
+    ///
+    /// # Examples
+    /// ```
+    /// use vecexpr::Real;
+    /// let y = 4.0f32.rsqrt_approx();
+    /// assert!((y - 0.5).abs() < 0.5 * 2e-3);
+    /// ```
+    fn rsqrt_approx(self) -> Self;
 }
 
 /// The raw bits of one lane (`u32` or `u64`), used for packet masks.
@@ -258,7 +274,7 @@ impl LaneBits for u64 {
 }
 
 macro_rules! impl_real {
-    ($t:ident, $bits:ident) => {
+    ($t:ident, $bits:ident, $magic:expr) => {
         impl Scalar for $t {
             type Elem = $t;
             type Mask = bool;
@@ -435,12 +451,18 @@ macro_rules! impl_real {
             fn next_down(self) -> Self {
                 -(-self).next_up()
             }
+            #[inline(always)]
+            fn rsqrt_approx(self) -> Self {
+                let half = 0.5 * self;
+                let y = <$t>::from_bits(($magic as $bits).wrapping_sub(self.to_bits() >> 1));
+                y * (1.5 - half * y * y)
+            }
         }
     };
 }
 
-impl_real!(f32, u32);
-impl_real!(f64, u64);
+impl_real!(f32, u32, 0x5f37_5a86u32);
+impl_real!(f64, u64, 0x5fe6_eb50_c7b5_37a9u64);
 
 #[cfg(test)]
 mod tests {
@@ -463,5 +485,21 @@ mod tests {
         assert_eq!(1.0f32.next_down(), 1.0 - f32::EPSILON / 2.0);
         assert_eq!(f32::INFINITY.next_up(), f32::INFINITY);
         assert_eq!((-f32::MIN_POSITIVE).next_up(), -f32::from_bits(0x007f_ffff));
+    }
+
+    #[test]
+    fn rsqrt_approx_is_close() {
+        let mut worst = 0.0f64;
+        for i in 1..2000 {
+            let x = i as f64 * 0.37;
+            let exact = 1.0 / x.sqrt();
+            let e64 = (x.rsqrt_approx() - exact).abs() / exact;
+            let e32 = ((x as f32).rsqrt_approx() as f64 - exact).abs() / exact;
+            assert!(e64 < 1.8e-3 && e32 < 1.8e-3, "x = {x}: {e64} {e32}");
+            worst = worst.max(e64).max(e32);
+        }
+        // An approximation, not a correctly rounded result.
+        assert!(worst > 1e-4, "{worst}");
+        assert_eq!(0.0f32.rsqrt_approx() * 0.0, 0.0);
     }
 }

@@ -211,6 +211,31 @@ pub trait Expr: Sized {
     fn normalize(self) -> Vector<Self::Scalar, Self::Dim> {
         crate::geometry::normalize(self.eval())
     }
+    /// An approximate unit vector $x \cdot \widetilde{\mathrm{rsqrt}}(\lVert x \rVert^2)$
+    /// using [`Real::rsqrt_approx`] (a magic-constant estimate and one Newton step)
+    /// instead of a square root and a division.
+    ///
+    /// The direction is exact to rounding; the length is $1 \pm 1.8 \cdot 10^{-3}$.
+    /// Unlike [`Expr::normalize`] there is no rescaling: the squared length must be a
+    /// normal number (the zero vector still gives zero). For speed-versus-accuracy
+    /// comparisons; use [`Expr::normalize`] where unit length matters.
+    ///
+    /// # Examples
+    /// ```
+    /// use vecexpr::{vec3, Expr};
+    /// let u = vec3(3.0f32, 0.0, 4.0).normalize_approx();
+    /// assert!((u.length() - 1.0).abs() < 2e-3);
+    /// assert_eq!(u[1], 0.0);
+    /// ```
+    #[inline(always)]
+    fn normalize_approx(self) -> Vector<Self::Scalar, Self::Dim>
+    where
+        Self::Scalar: Real,
+    {
+        let v = self.eval();
+        let r = (&v).length_squared().rsqrt_approx();
+        (&v).scale(r).eval()
+    }
     /// Cross product $x \times y$ of two 3-vectors.
     ///
     /// # Examples
