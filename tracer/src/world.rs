@@ -45,13 +45,22 @@ impl<T: Real> Material<T> {
     pub fn from_desc(m: &MaterialDesc) -> Self {
         let c = |x: f64| T::from_f64(x);
         let ka = (1.0 - m.kd - m.ks - m.t).max(0.0);
+        // The secondary rays carry K_r = K_s and K_t, and total internal reflection moves
+        // K_t onto the reflection ray: with K_s + K_t > 1 a surface would return more light
+        // than reaches it. Such materials (none in the SPD scenes) are scaled to sum to 1.
+        let sum = m.ks + m.t;
+        let (ks, kt) = if sum > 1.0 {
+            (m.ks / sum, m.t / sum)
+        } else {
+            (m.ks, m.t)
+        };
         Self {
             color: vec3(c(m.color[0]), c(m.color[1]), c(m.color[2])),
             ka: c(ka),
             kd: c(m.kd),
-            ks: c(m.ks),
+            ks: c(ks),
             shine: c(m.shine),
-            kt: c(m.t),
+            kt: c(kt),
             ior: if m.ior > 0.0 { c(m.ior) } else { T::ONE },
         }
     }

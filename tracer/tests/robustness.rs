@@ -935,6 +935,40 @@ fn energy_is_never_created() {
     println!("energy: brightest pixel channel {max} (background 1)");
 }
 
+/// NFF allows $K_s + T > 1$; such materials are scaled to sum to 1 when the scene is built,
+/// so nested glass of that kind, totally reflecting inside, still creates no light.
+#[test]
+fn overbright_materials_are_scaled_to_conserve_energy() {
+    let desc = material(0.0, 0.8, 0.8, 1.5, [1.0, 1.0, 1.0]);
+    let m = tracer::Material::<f64>::from_desc(&desc);
+    assert!(
+        (m.ks + m.kt - 1.0).abs() < 1e-12 && (m.ks - m.kt).abs() < 1e-12,
+        "{m:?}"
+    );
+    let mut b = SceneBuilder::default();
+    let glass = b.add_material(desc);
+    b.add_sphere([0.0, 0.0, 0.0], 1.0, glass);
+    b.add_sphere([0.2, 0.1, 0.0], 0.5, glass);
+    b.background([1.0, 1.0, 1.0]);
+    b.look_at([0.0, 0.0, 4.0], [0.0; 3], [0.0, 1.0, 0.0], 40.0);
+    let settings = Settings {
+        width: Some(32),
+        height: Some(32),
+        depth: 16,
+        ..Settings::default()
+    };
+    for img in [
+        render(&b.build::<f32>(), &settings),
+        render(&b.build::<f64>(), &settings),
+    ] {
+        for p in &img.pixels {
+            for &c in p {
+                assert!((0.0..=1.0 + 1e-5).contains(&c), "{p:?}");
+            }
+        }
+    }
+}
+
 // ----- degenerate input -------------------------------------------------------------------
 
 const DEGENERATE_NFF: &str = "\
