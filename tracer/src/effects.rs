@@ -9,11 +9,12 @@
 //! facing the surface, an adaptive weight) only decide whether a ray is worth tracing.
 //!
 //! # Instantiations
-//! A renderer exists for each entry of [`INSTANCES`] in each precision: the effect sets
-//! the Standard Procedural Databases need with the default settings, plus the general
-//! one ([`ALL`]). At run time [`choose`] takes the cheapest entry that contains every
-//! effect the scene needs, falling back to the general renderer, so any scene renders
-//! with some entry and the number of compiled renderers stays fixed whatever the scene.
+//! An `f32` renderer exists for each entry of [`INSTANCES`]: the effect sets the Standard
+//! Procedural Databases need with the default settings, plus the general one ([`ALL`]);
+//! `f64` has the general one only (see [`crate::render::specialised`]). At run time
+//! [`choose`] takes the cheapest entry that contains every effect the scene needs,
+//! falling back to the general renderer, so any scene renders with some entry and the
+//! number of compiled renderers stays fixed whatever the scene.
 //! Every entry is a superset of what it is chosen for, and an effect a renderer keeps
 //! but the scene lacks has no effect on the image: the specialised and the general
 //! renderer give the same image bit for bit and trace the same rays.
