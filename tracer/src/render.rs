@@ -505,9 +505,12 @@ fn render_corners<T: Real, const FX: u32>(
 /// `sums` holds `cam.width * cam.height` running sums, row-major from the top left. Pass
 /// `k` (for `k` in `0..aa * aa`) traces, for every pixel, the ray at grid position
 /// `(k % aa, k / aa)` of the `aa` x `aa` grid that [`render`] uses, through `cam` (which
-/// may differ from the scene's own camera). Running passes `0..aa * aa` in order adds the
-/// samples in the order [`render`] adds them, so scaling the sums by `1 / (aa * aa)`
-/// gives [`render`]'s image bit for bit (for a scene whose camera is `cam`).
+/// may differ from the scene's own camera), with the depth, threshold and effect mode of
+/// `settings` (its size, `aa` and threads are ignored). Running passes `0..aa * aa` in
+/// order adds the samples in the order [`render`] adds them, so scaling the sums by
+/// `1 / (aa * aa)` gives [`render`]'s image bit for bit (for a scene whose camera is
+/// `cam`). Returns the rays traced and the effect set of the renderer that ran (each
+/// pass traces one ray per pixel, so supersampling is never among the effects needed).
 ///
 /// Rows run in parallel on the current rayon pool (use `ThreadPool::install` to choose
 /// the thread count); the sums do not depend on it.
@@ -517,28 +520,80 @@ fn render_corners<T: Real, const FX: u32>(
 pub fn accumulate_pass<T: Real>(
     scene: &Scene<T>,
     cam: &crate::Camera<T>,
-    limits: &TraceLimits<T>,
+    settings: &Settings,
     aa: u32,
     pass: u32,
     sums: &mut [Vec3<T>],
-) -> RayCounts {
+) -> (RayCounts, EffectChoice) {
     let (w, h) = (cam.width as usize, cam.height as usize);
     assert_eq!(sums.len(), w * h, "accumulate_pass: buffer size");
-    let a = aa.max(1);
-    let (i, j) = (pass % a, (pass / a) % a);
-    let inv_a = T::from_f64(1.0 / a as f64);
-    let ox = (T::from_f64(i as f64) + T::from_f64(0.5)) * inv_a;
-    let oy = (T::from_f64(j as f64) + T::from_f64(0.5)) * inv_a;
-    sums.par_chunks_mut(w.max(1))
-        .enumerate()
-        .map(|(y, row)| {
-            let mut counts = RayCounts::default();
-            let sy = T::from_f64(y as f64) + oy;
-            for (x, sum) in row.iter_mut().enumerate() {
-                let sx = T::from_f64(x as f64) + ox;
-                *sum += eye_sample::<T, { effects::ALL }>(scene, cam, sx, sy, limits, &mut counts);
-            }
-            counts
-        })
-        .reduce(RayCounts::default, |a, b| a + b)
+    let one = Settings {
+        aa: 1,
+        ..settings.clone()
+    };
+    let required = EffectSet::required(scene, &one);
+    let mode = if specialised::<T>() {
+        settings.effects
+    } else {
+        EffectsMode::All
+    };
+    let choice = EffectChoice {
+        mode: settings.effects,
+        ..EffectChoice::new(mode, required)
+    };
+    let pass = Pass {
+        scene,
+        cam,
+        limits: one.limits::<T>(),
+        aa,
+        pass,
+        sums,
+    };
+    let any: &dyn core::any::Any = scene;
+    let counts = match any.downcast_ref::<Scene<f32>>() {
+        Some(_) => effects::dispatch(choice.renderer, pass),
+        None => pass.call::<{ effects::ALL }>(),
+    };
+    (counts, choice)
+}
+
+/// One pass of [`accumulate_pass`], monomorphised per effect set.
+struct Pass<'a, T: Real> {
+    scene: &'a Scene<T>,
+    cam: &'a crate::Camera<T>,
+    limits: TraceLimits<T>,
+    aa: u32,
+    pass: u32,
+    sums: &'a mut [Vec3<T>],
+}
+
+impl<T: Real> EffectFn<RayCounts> for Pass<'_, T> {
+    fn call<const FX: u32>(self) -> RayCounts {
+        let Pass {
+            scene,
+            cam,
+            limits,
+            aa,
+            pass,
+            sums,
+        } = self;
+        let w = cam.width as usize;
+        let a = aa.max(1);
+        let (i, j) = (pass % a, (pass / a) % a);
+        let inv_a = T::from_f64(1.0 / a as f64);
+        let ox = (T::from_f64(i as f64) + T::from_f64(0.5)) * inv_a;
+        let oy = (T::from_f64(j as f64) + T::from_f64(0.5)) * inv_a;
+        sums.par_chunks_mut(w.max(1))
+            .enumerate()
+            .map(|(y, row)| {
+                let mut counts = RayCounts::default();
+                let sy = T::from_f64(y as f64) + oy;
+                for (x, sum) in row.iter_mut().enumerate() {
+                    let sx = T::from_f64(x as f64) + ox;
+                    *sum += eye_sample::<T, FX>(scene, cam, sx, sy, &limits, &mut counts);
+                }
+                counts
+            })
+            .reduce(RayCounts::default, |a, b| a + b)
+    }
 }

@@ -5,6 +5,7 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
+use tracer::effects::EffectsMode;
 use tracer::geometry::AccelOptions;
 use tracer::scene::desc::SceneDesc;
 use tracer::viewer::camera::FlyCamera;
@@ -71,13 +72,18 @@ fn progressive_passes_converge_to_the_offline_render() {
     let mut cam = FlyCamera::new(&desc.camera);
     cam.translate(1.0, -0.5, 0.25);
     cam.turn(-6.0, 2.0);
-    for (precision, threads) in [(Precision::F32, 1), (Precision::F64, 2)] {
+    for (precision, threads, effects) in [
+        (Precision::F32, 1, EffectsMode::Auto),
+        (Precision::F32, 2, EffectsMode::All),
+        (Precision::F64, 2, EffectsMode::Auto),
+    ] {
         let k = Knobs {
             aa: 3,
             depth: 4,
             threshold: 0.01,
             precision,
             threads,
+            effects,
         };
         let mut engine = Engine::new(
             desc.clone(),

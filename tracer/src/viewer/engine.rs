@@ -164,6 +164,7 @@ impl Engine {
         let settings = Settings {
             depth: self.knobs.depth,
             threshold: self.knobs.threshold,
+            effects: self.knobs.effects,
             ..Settings::default()
         };
         let (w, h, aa, pass) = (self.width, self.height, self.knobs.aa, self.passes);
@@ -245,8 +246,7 @@ fn pass_in<T: Real>(
     sums: &mut [Vec3<T>],
 ) -> RayCounts {
     let cam = crate::Camera::new(camera, w, h);
-    let limits = settings.limits::<T>();
-    pool.install(|| render::accumulate_pass(scene, &cam, &limits, aa, pass, sums))
+    pool.install(|| render::accumulate_pass(scene, &cam, settings, aa, pass, sums).0)
 }
 
 /// `image = sums * k`, converted as [`render::render`] converts its pixels.

@@ -5,6 +5,7 @@
 //! (`[` and `]`), and camera scripts set knobs by name (`set NAME VALUE`), so a new knob is
 //! one field in [`Knobs`] and one entry in the table.
 
+use crate::effects::EffectsMode;
 use std::fmt;
 
 /// Arithmetic precision of the whole tracer.
@@ -38,6 +39,9 @@ pub struct Knobs {
     pub precision: Precision,
     /// Rendering threads.
     pub threads: usize,
+    /// The renderer compiled for the scene's effects (`auto`) or the general one (`all`);
+    /// the image is the same, only the time differs.
+    pub effects: EffectsMode,
 }
 
 impl Default for Knobs {
@@ -48,6 +52,7 @@ impl Default for Knobs {
             threshold: 0.0,
             precision: Precision::F32,
             threads: std::thread::available_parallelism().map_or(1, |n| n.get()),
+            effects: EffectsMode::Auto,
         }
     }
 }
@@ -98,8 +103,8 @@ pub fn parse_threshold(s: &str) -> Result<f64, String> {
     Ok(v)
 }
 
-/// The knob table. Pending, to be added as entries when the renderer has them: the effect
-/// set (`auto`/`all`) and the instruction set (ISA) of the tracing kernels.
+/// The knob table. Pending, to be added as an entry when the renderer has it: the
+/// instruction set (ISA) of the tracing kernels.
 pub const KNOBS: &[Knob] = &[
     Knob {
         name: "aa",
@@ -170,6 +175,27 @@ pub const KNOBS: &[Knob] = &[
         },
         show: |k| k.threads.to_string(),
     },
+    Knob {
+        name: "effects",
+        help: "renderer: compiled for the scene's effects (auto) or general (all)",
+        step: |k, d| {
+            if d != 0 {
+                k.effects = match k.effects {
+                    EffectsMode::Auto => EffectsMode::All,
+                    EffectsMode::All => EffectsMode::Auto,
+                }
+            }
+        },
+        set: |k, s| {
+            k.effects = match s {
+                "auto" => EffectsMode::Auto,
+                "all" => EffectsMode::All,
+                _ => return Err(format!("effects must be auto or all, got `{s}`")),
+            };
+            Ok(())
+        },
+        show: |k| k.effects.name().to_string(),
+    },
 ];
 
 /// The knob called `name`.
@@ -228,7 +254,12 @@ mod tests {
         let mut k = Knobs::default();
         (find("aa").unwrap().set)(&mut k, "3").unwrap();
         (find("precision").unwrap().set)(&mut k, "f64").unwrap();
-        assert_eq!((k.aa, k.precision), (3, Precision::F64));
+        (find("effects").unwrap().set)(&mut k, "all").unwrap();
+        assert_eq!(
+            (k.aa, k.precision, k.effects),
+            (3, Precision::F64, EffectsMode::All)
+        );
+        assert!((find("effects").unwrap().set)(&mut k, "some").is_err());
         assert!((find("aa").unwrap().set)(&mut k, "0").is_err());
         assert!((find("depth").unwrap().set)(&mut k, "x").is_err());
         assert!((find("threshold").unwrap().set)(&mut k, "2").is_err());

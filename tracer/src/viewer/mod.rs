@@ -8,8 +8,8 @@
 //!   for bit; any change of camera or knob restarts at one sample per pixel.
 //! - [`camera`]: the moving camera, along the tracer's $C_d$, $C_l$, $C_u$.
 //! - [`knobs`]: the table of live knobs (antialiasing, depth, threshold, precision,
-//!   threads). Pending, to be added as one table entry each when the renderer has them:
-//!   the effect set (`--effects auto|all`) and the instruction set (ISA).
+//!   threads, effect set). Pending, to be added as one table entry when the renderer has
+//!   it: the instruction set (ISA).
 //! - [`script`]: camera paths for scripted runs and the headless test.
 //! - `window` (private): the window, input and presentation.
 //!
@@ -38,6 +38,7 @@ pub mod knobs;
 pub mod script;
 mod window;
 
+use crate::effects::EffectsMode;
 use crate::geometry::AccelOptions;
 use crate::scene::{self, desc::SceneDesc};
 use camera::FlyCamera;
@@ -71,6 +72,9 @@ pub struct ViewArgs {
     /// Arithmetic precision of the whole tracer.
     #[arg(long, value_enum, default_value_t = Precision::F32)]
     pub precision: Precision,
+    /// Renderer: compiled for the scene's effects (auto) or the general one (all).
+    #[arg(long, value_enum, default_value_t = EffectsMode::Auto)]
+    pub effects: EffectsMode,
     /// Trace without the BVH (brute force).
     #[arg(long)]
     pub no_bvh: bool,
@@ -129,6 +133,7 @@ impl ViewArgs {
             threads: self
                 .threads
                 .map_or_else(|| Knobs::default().threads, |t| t as usize),
+            effects: self.effects,
         }
     }
 }
