@@ -32,6 +32,7 @@ use crate::geometry::AccelOptions;
 use crate::image::{write_atomic, Image};
 use crate::render::{render_with_stats, Settings};
 use crate::scene::{self, desc::SceneDesc};
+use crate::stats::process_cpu_ms;
 use crate::world::Scene;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -144,26 +145,6 @@ impl Clock {
             Clock::Cpu => "cpu",
             Clock::Wall => "wall",
         }
-    }
-}
-
-/// CPU time consumed so far by this process, all threads, in milliseconds (`None` where
-/// the platform offers no process CPU clock).
-pub fn process_cpu_ms() -> Option<f64> {
-    #[cfg(unix)]
-    {
-        let mut ts = libc::timespec {
-            tv_sec: 0,
-            tv_nsec: 0,
-        };
-        // SAFETY: `clock_gettime` writes one `timespec` through the valid, exclusive
-        // pointer it is given and keeps no reference to it.
-        let rc = unsafe { libc::clock_gettime(libc::CLOCK_PROCESS_CPUTIME_ID, &mut ts) };
-        (rc == 0).then_some(ts.tv_sec as f64 * 1e3 + ts.tv_nsec as f64 * 1e-6)
-    }
-    #[cfg(not(unix))]
-    {
-        None
     }
 }
 

@@ -166,13 +166,13 @@ struct RenderArgs {
     #[command(flatten)]
     schedule: ScheduleArgs,
     /// OBJ camera position (x,y,z); NFF scenes carry their own camera.
-    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    #[arg(long, value_parser = tracer::scene::parse_vec3, allow_hyphen_values = true)]
     from: Option<[f64; 3]>,
     /// OBJ camera target (x,y,z).
-    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    #[arg(long, value_parser = tracer::scene::parse_vec3, allow_hyphen_values = true)]
     at: Option<[f64; 3]>,
     /// OBJ camera up vector (x,y,z).
-    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    #[arg(long, value_parser = tracer::scene::parse_vec3, allow_hyphen_values = true)]
     up: Option<[f64; 3]>,
     /// OBJ camera vertical angle of view in degrees.
     #[arg(long)]
@@ -183,22 +183,6 @@ fn parse_threshold(s: &str) -> Result<f64, String> {
     let v: f64 = s.parse().map_err(|_| format!("`{s}` is not a number"))?;
     if !(0.0..=1.0).contains(&v) {
         return Err(format!("threshold must be in [0, 1], got {v}"));
-    }
-    Ok(v)
-}
-
-fn parse_vec3(s: &str) -> Result<[f64; 3], String> {
-    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
-    if parts.len() != 3 {
-        return Err(format!("expected x,y,z, got `{s}`"));
-    }
-    let mut v = [0.0; 3];
-    for (o, p) in v.iter_mut().zip(parts) {
-        *o = p
-            .parse::<f64>()
-            .ok()
-            .filter(|x| x.is_finite())
-            .ok_or_else(|| format!("`{p}` is not a finite number"))?;
     }
     Ok(v)
 }

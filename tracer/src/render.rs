@@ -150,17 +150,22 @@ pub fn render<T: Real>(scene: &Scene<T>, settings: &Settings) -> Image {
 /// # Panics
 /// If a thread pool with the requested number of threads cannot be created.
 pub fn render_with_stats<T: Real>(scene: &Scene<T>, settings: &Settings) -> (Image, RenderStats) {
+    render_choice(scene, settings, effect_choice(scene, settings))
+}
+
+/// The renderer `settings.effects` picks for `scene`: in `auto` mode the specialised one
+/// for the effects needed, where `T` has specialised renderers ([`specialised`]).
+fn effect_choice<T: Real>(scene: &Scene<T>, settings: &Settings) -> EffectChoice {
     let required = EffectSet::required(scene, settings);
     let mode = if specialised::<T>() {
         settings.effects
     } else {
         EffectsMode::All
     };
-    let choice = EffectChoice {
+    EffectChoice {
         mode: settings.effects,
         ..EffectChoice::new(mode, required)
-    };
-    render_choice(scene, settings, choice)
+    }
 }
 
 /// Does precision `T` have the specialised renderers of [`effects::INSTANCES`]? Only
@@ -531,16 +536,7 @@ pub fn accumulate_pass<T: Real>(
         aa: 1,
         ..settings.clone()
     };
-    let required = EffectSet::required(scene, &one);
-    let mode = if specialised::<T>() {
-        settings.effects
-    } else {
-        EffectsMode::All
-    };
-    let choice = EffectChoice {
-        mode: settings.effects,
-        ..EffectChoice::new(mode, required)
-    };
+    let choice = effect_choice(scene, &one);
     let pass = Pass {
         scene,
         cam,

@@ -158,3 +158,21 @@ fn gunzip(data: &[u8], name: &str) -> Result<Vec<u8>, SceneError> {
         })?;
     Ok(out)
 }
+
+/// Parses a command-line vector `x,y,z` (the OBJ camera options): three finite numbers
+/// separated by commas, spaces around them allowed.
+pub fn parse_vec3(s: &str) -> Result<[f64; 3], String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    if parts.len() != 3 {
+        return Err(format!("expected x,y,z, got `{s}`"));
+    }
+    let mut v = [0.0; 3];
+    for (o, p) in v.iter_mut().zip(parts) {
+        *o = p
+            .parse::<f64>()
+            .ok()
+            .filter(|x| x.is_finite())
+            .ok_or_else(|| format!("`{p}` is not a finite number"))?;
+    }
+    Ok(v)
+}

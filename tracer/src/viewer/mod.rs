@@ -79,13 +79,13 @@ pub struct ViewArgs {
     #[arg(long)]
     pub no_bvh: bool,
     /// OBJ camera position (x,y,z); NFF scenes carry their own camera.
-    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    #[arg(long, value_parser = scene::parse_vec3, allow_hyphen_values = true)]
     pub from: Option<[f64; 3]>,
     /// OBJ camera target (x,y,z).
-    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    #[arg(long, value_parser = scene::parse_vec3, allow_hyphen_values = true)]
     pub at: Option<[f64; 3]>,
     /// OBJ camera up vector (x,y,z).
-    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    #[arg(long, value_parser = scene::parse_vec3, allow_hyphen_values = true)]
     pub up: Option<[f64; 3]>,
     /// OBJ camera vertical angle of view in degrees.
     #[arg(long)]
@@ -104,22 +104,6 @@ pub struct ViewArgs {
     /// Run --script or --frames without opening a window.
     #[arg(long)]
     pub no_window: bool,
-}
-
-fn parse_vec3(s: &str) -> Result<[f64; 3], String> {
-    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
-    if parts.len() != 3 {
-        return Err(format!("expected x,y,z, got `{s}`"));
-    }
-    let mut v = [0.0; 3];
-    for (o, p) in v.iter_mut().zip(parts) {
-        *o = p
-            .parse::<f64>()
-            .ok()
-            .filter(|x| x.is_finite())
-            .ok_or_else(|| format!("`{p}` is not a finite number"))?;
-    }
-    Ok(v)
 }
 
 impl ViewArgs {
