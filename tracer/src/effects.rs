@@ -248,8 +248,6 @@ effect_table! {
     MIRROR_SPHERES_CONES = SHADOWS | SPECULAR | REFLECTION | SPHERES | CONES;
     /// Mirrors of every bounded kind: rings.
     MIRROR_MIXED = SHADOWS | SPECULAR | REFLECTION | SPHERES | TRIANGLES | CONES;
-    /// Glass and mirrors of triangles: gears.
-    GLASS_TRIANGLES = SHADOWS | SPECULAR | REFLECTION | REFRACTION | TRIANGLES;
     /// Glass and mirrors of spheres and triangles: mount.
     GLASS_SPHERES_TRIANGLES = SHADOWS | SPECULAR | REFLECTION | REFRACTION | SPHERES | TRIANGLES;
 }
