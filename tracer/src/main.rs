@@ -248,12 +248,7 @@ fn run_bench(args: &BenchArgs) -> Result<(), String> {
         .map_err(|e| format!("cannot create the thread pool: {e}"))?;
     let mut rows = Vec::new();
     for path in &args.scenes {
-        let desc = if is_obj(path) {
-            scene::load_obj(path, &scene::ObjOptions::default())
-        } else {
-            scene::load(path)
-        }
-        .map_err(|e| e.to_string())?;
+        let desc = scene::load(path).map_err(|e| e.to_string())?;
         let name = path
             .file_name()
             .map(|n| n.to_string_lossy().into_owned())
@@ -269,33 +264,15 @@ fn run_bench(args: &BenchArgs) -> Result<(), String> {
     Ok(())
 }
 
-fn is_obj(path: &Path) -> bool {
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().to_ascii_lowercase())
-        .unwrap_or_default();
-    name.ends_with(".obj") || name.ends_with(".obj.gz")
-}
-
 fn load(args: &RenderArgs) -> Result<SceneDesc, String> {
-    let name = args
-        .scene
-        .file_name()
-        .map(|n| n.to_string_lossy().to_ascii_lowercase())
-        .unwrap_or_default();
-    let is_obj = name.ends_with(".obj") || name.ends_with(".obj.gz");
-    if is_obj {
-        let opts = scene::ObjOptions {
-            from: args.from,
-            at: args.at,
-            up: args.up,
-            angle: args.angle,
-            ..scene::ObjOptions::default()
-        };
-        scene::load_obj(&args.scene, &opts).map_err(|e| e.to_string())
-    } else {
-        scene::load(&args.scene).map_err(|e| e.to_string())
-    }
+    let opts = scene::ObjOptions {
+        from: args.from,
+        at: args.at,
+        up: args.up,
+        angle: args.angle,
+        ..scene::ObjOptions::default()
+    };
+    scene::load_with(&args.scene, &opts).map_err(|e| e.to_string())
 }
 
 fn run_render(args: &RenderArgs) -> Result<(), String> {

@@ -60,12 +60,21 @@ pub const DEFAULT_MATERIAL: MaterialDesc = MaterialDesc {
 /// assert_eq!(err.to_string(), "no/such/file.nff: cannot read file: No such file or directory");
 /// ```
 pub fn load(path: &Path) -> Result<SceneDesc, SceneError> {
+    load_with(path, &ObjOptions::default())
+}
+
+/// [`load`] with `obj` as the options of an OBJ file (its camera, for example); an NFF
+/// file carries its own camera and ignores them.
+///
+/// # Errors
+/// As [`load`].
+pub fn load_with(path: &Path, obj: &ObjOptions) -> Result<SceneDesc, SceneError> {
     let name = path
         .file_name()
         .map(|n| n.to_string_lossy().to_ascii_lowercase())
         .unwrap_or_default();
     if name.ends_with(".obj") || name.ends_with(".obj.gz") {
-        load_obj(path, &ObjOptions::default())
+        load_obj(path, obj)
     } else {
         load_nff(path)
     }

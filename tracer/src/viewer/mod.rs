@@ -127,23 +127,14 @@ impl ViewArgs {
 /// # Errors
 /// One line `FILE:LINE: message`.
 pub fn load_scene(args: &ViewArgs) -> Result<SceneDesc, String> {
-    let name = args
-        .scene
-        .file_name()
-        .map(|n| n.to_string_lossy().to_ascii_lowercase())
-        .unwrap_or_default();
-    if name.ends_with(".obj") || name.ends_with(".obj.gz") {
-        let opts = scene::ObjOptions {
-            from: args.from,
-            at: args.at,
-            up: args.up,
-            angle: args.angle,
-            ..scene::ObjOptions::default()
-        };
-        scene::load_obj(&args.scene, &opts).map_err(|e| e.to_string())
-    } else {
-        scene::load(&args.scene).map_err(|e| e.to_string())
-    }
+    let opts = scene::ObjOptions {
+        from: args.from,
+        at: args.at,
+        up: args.up,
+        angle: args.angle,
+        ..scene::ObjOptions::default()
+    };
+    scene::load_with(&args.scene, &opts).map_err(|e| e.to_string())
 }
 
 /// What a run needs besides the window: the engine, the camera and the mode.
