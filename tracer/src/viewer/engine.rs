@@ -170,14 +170,10 @@ impl Engine {
         let (w, h, aa, pass) = (self.width, self.height, self.knobs.aa, self.passes);
         let mut build_ms = 0.0;
         let start = Instant::now();
+        let (desc, accel) = (&self.desc, &self.accel);
         let rays = match &mut self.sums {
             Sums::F32(sums) => {
-                let scene = self.scene32.get_or_insert_with(|| {
-                    let t = Instant::now();
-                    let s = Scene::from_desc(&self.desc, &self.accel);
-                    build_ms = t.elapsed().as_secs_f64() * 1e3;
-                    s
-                });
+                let scene = built(&mut self.scene32, desc, accel, &mut build_ms);
                 pass_in(
                     &self.pool,
                     scene,
@@ -191,12 +187,7 @@ impl Engine {
                 )
             }
             Sums::F64(sums) => {
-                let scene = self.scene64.get_or_insert_with(|| {
-                    let t = Instant::now();
-                    let s = Scene::from_desc(&self.desc, &self.accel);
-                    build_ms = t.elapsed().as_secs_f64() * 1e3;
-                    s
-                });
+                let scene = built(&mut self.scene64, desc, accel, &mut build_ms);
                 pass_in(
                     &self.pool,
                     scene,
@@ -231,6 +222,22 @@ impl Engine {
         }
         image
     }
+}
+
+/// The scene in precision `T`, built from `desc` on first use (adding the build time to
+/// `build_ms`).
+fn built<'a, T: Real>(
+    slot: &'a mut Option<Scene<T>>,
+    desc: &SceneDesc,
+    accel: &AccelOptions,
+    build_ms: &mut f64,
+) -> &'a Scene<T> {
+    slot.get_or_insert_with(|| {
+        let t = Instant::now();
+        let s = Scene::from_desc(desc, accel);
+        *build_ms = t.elapsed().as_secs_f64() * 1e3;
+        s
+    })
 }
 
 #[allow(clippy::too_many_arguments)]
