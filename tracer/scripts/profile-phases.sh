@@ -3,7 +3,9 @@
 # thread, 1024x1024) and sorts every sample by the innermost tracer function on its
 # stack, inlined frames included: shadow-ray queries, closest-hit queries, shading, the
 # camera and pixel loop, or anything else (parsing, BVH build, image output, kernel).
-# Prints a Markdown table per effects mode. Needs perf and python3.
+# Prints a Markdown table per effects mode, then the phase times of the same run from
+# its --stats JSON (milliseconds and cycle-counter ticks, see tracer/src/cycles.rs).
+# Needs perf and python3.
 # Usage: tracer/scripts/profile-phases.sh SCENE.nff [all|auto]...
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
@@ -16,7 +18,7 @@ out=$(mktemp -d)
 for m in $modes; do
   perf record -q -e cpu-clock -F 4000 --call-graph dwarf,16384 -o "$out/perf.data" \
     "$bin" render "$scene" -o "$out/img.png" --threads 1 --width 1024 --height 1024 \
-    --effects "$m" 2>/dev/null
+    --effects "$m" --stats "$out/stats.json" 2>/dev/null
   perf script -i "$out/perf.data" --inline 2>/dev/null > "$out/perf.txt"
   echo "$(basename "$scene") --effects $m"
   python3 - "$out/perf.txt" <<'PY'
@@ -57,6 +59,14 @@ print("| part | samples | share |\n|---|---:|---:|")
 for _, name in RULES + [(None, OTHER)]:
     print(f"| {name} | {counts[name]} | {100 * counts[name] / total:.1f}% |")
 print(f"| total | {total} | |")
+PY
+  python3 - "$out/stats.json" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[1]))
+ms, cy, clock = s["times_ms"], s["times_cycles"], s["cycle_clock"]
+print(f"\n| phase | ms | cycles ({clock['source']}, {clock['ticks_per_second'] / 1e9:.3f} GHz) |\n|---|---:|---:|")
+for k in ("parse", "build", "trace", "total"):
+    print(f"| {k} | {ms[k]:.1f} | {cy[k]} |")
 PY
 done
 rm -r "$out"

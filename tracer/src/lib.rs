@@ -30,6 +30,7 @@ pub mod arith;
 pub mod bench;
 pub mod bvh;
 pub mod camera;
+pub mod cycles;
 pub mod effects;
 pub mod geometry;
 pub mod image;

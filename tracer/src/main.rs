@@ -8,11 +8,11 @@ use clap::{Parser, Subcommand, ValueEnum};
 use serde_json::json;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::time::Instant;
 use tracer::effects::EffectsMode;
 use tracer::geometry::AccelOptions;
 use tracer::render::{render_with_stats, Schedule, Scheduler, Settings};
 use tracer::scene::{self, desc::SceneDesc};
+use tracer::stats::{CycleClock, Cycles, Mark};
 use tracer::world::Scene;
 use vecexpr::Real;
 
@@ -276,7 +276,7 @@ fn load(args: &RenderArgs) -> Result<SceneDesc, String> {
 }
 
 fn run_render(args: &RenderArgs) -> Result<(), String> {
-    let start = Instant::now();
+    let start = Mark::now();
     let out_ext = args
         .output
         .extension()
@@ -289,7 +289,7 @@ fn run_render(args: &RenderArgs) -> Result<(), String> {
         ));
     }
     let desc = load(args)?;
-    let parse_ms = ms(start);
+    let parse = (start.ms(), start.cycles());
     let settings = Settings {
         width: args.width,
         height: args.height,
@@ -312,13 +312,9 @@ fn run_render(args: &RenderArgs) -> Result<(), String> {
         ..AccelOptions::default()
     };
     match args.precision {
-        Precision::F32 => render_in::<f32>(args, &desc, &settings, &accel, start, parse_ms),
-        Precision::F64 => render_in::<f64>(args, &desc, &settings, &accel, start, parse_ms),
+        Precision::F32 => render_in::<f32>(args, &desc, &settings, &accel, start, parse),
+        Precision::F64 => render_in::<f64>(args, &desc, &settings, &accel, start, parse),
     }
-}
-
-fn ms(since: Instant) -> f64 {
-    since.elapsed().as_secs_f64() * 1e3
 }
 
 fn render_in<T: Real>(
@@ -326,23 +322,25 @@ fn render_in<T: Real>(
     desc: &SceneDesc,
     settings: &Settings,
     accel: &AccelOptions,
-    start: Instant,
-    parse_ms: f64,
+    start: Mark,
+    (parse_ms, parse_cycles): (f64, u64),
 ) -> Result<(), String> {
-    let build_start = Instant::now();
+    let build_start = Mark::now();
     let scene = Scene::<T>::from_desc(desc, accel);
-    let build_ms = ms(build_start);
+    let (build_ms, build_cycles) = (build_start.ms(), build_start.cycles());
     let (image, stats) = render_with_stats(&scene, settings);
     image
         .save(&args.output)
         .map_err(|e| format!("{}: cannot write image: {e}", args.output.display()))?;
-    let total_ms = ms(start);
+    let (total_ms, total_cycles) = (start.ms(), start.cycles());
     if let Some(path) = &args.stats {
         let g = scene.geometry.stats();
         let (w, h) = settings.size(&scene);
         let report = json!({
             "scene": args.scene.display().to_string(),
             "times_ms": { "parse": parse_ms, "build": build_ms, "trace": stats.trace_ms, "trace_cpu": stats.trace_cpu_ms, "total": total_ms },
+            "times_cycles": Cycles { parse: parse_cycles, build: build_cycles, trace: stats.trace_cycles, total: total_cycles },
+            "cycle_clock": CycleClock::get(),
             "rays": stats.rays,
             "effects": stats.effects,
             "primitives": {

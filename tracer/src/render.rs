@@ -138,6 +138,8 @@ pub struct RenderStats {
     pub effects: EffectChoice,
     /// CPU time of all threads while tracing, in milliseconds (0 where unavailable).
     pub trace_cpu_ms: f64,
+    /// Tracing time in ticks of [`crate::cycles`] (TSC reference cycles where available).
+    pub trace_cycles: u64,
 }
 
 /// Renders `scene` with `settings`.
@@ -239,11 +241,13 @@ fn render_choice<T: Real>(
     let run = || {
         let cpu = crate::stats::process_cpu_ms();
         let start = Instant::now();
+        let start_cycles = crate::cycles::start();
         let any: &dyn core::any::Any = scene;
         let (image, rays) = match any.downcast_ref::<Scene<f32>>() {
             Some(scene) => render_f32(scene, settings, choice.renderer),
             None => Renderer { scene, settings }.call::<{ effects::ALL }>(),
         };
+        let trace_cycles = crate::cycles::since(start_cycles);
         let trace_ms = start.elapsed().as_secs_f64() * 1e3;
         let trace_cpu_ms = match (cpu, crate::stats::process_cpu_ms()) {
             (Some(a), Some(b)) => b - a,
@@ -256,6 +260,7 @@ fn render_choice<T: Real>(
                 trace_ms,
                 effects: choice,
                 trace_cpu_ms,
+                trace_cycles,
             },
         )
     };

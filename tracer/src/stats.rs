@@ -1,7 +1,9 @@
 //! Ray counters and the `--stats` JSON report.
 
+use crate::cycles;
 use serde::Serialize;
 use std::ops::{Add, AddAssign};
+use std::time::Instant;
 
 /// Rays traced, by kind (SPD's counting: every ray cast, hit or not).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
@@ -52,6 +54,68 @@ pub struct Times {
     pub trace: f64,
     /// Everything, including writing the image.
     pub total: f64,
+}
+
+/// The phases of [`Times`] in ticks of the cycle counter ([`crate::cycles`]): TSC
+/// reference cycles where the processor has an invariant TSC, else nanoseconds.
+#[derive(Clone, Copy, Debug, Default, Serialize)]
+pub struct Cycles {
+    /// Reading and parsing the scene file.
+    pub parse: u64,
+    /// Building primitives and the BVH.
+    pub build: u64,
+    /// Tracing all rays.
+    pub trace: u64,
+    /// Everything, including writing the image.
+    pub total: u64,
+}
+
+/// What the ticks of [`Cycles`] are, for the `--stats` JSON.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct CycleClock {
+    /// `"tsc"` or `"instant"` (the nanosecond fallback).
+    pub source: &'static str,
+    /// Ticks per second, as calibrated against the wall clock.
+    pub ticks_per_second: f64,
+}
+
+impl CycleClock {
+    /// The process-wide clock (calibrated on first use).
+    pub fn get() -> Self {
+        let c = cycles::clock();
+        Self {
+            source: c.source().name(),
+            ticks_per_second: c.ticks_per_second(),
+        }
+    }
+}
+
+/// A moment on both clocks, the wall clock and the cycle counter, to time a phase by.
+#[derive(Clone, Copy, Debug)]
+pub struct Mark {
+    instant: Instant,
+    ticks: u64,
+}
+
+impl Mark {
+    /// Now.
+    #[inline]
+    pub fn now() -> Self {
+        Self {
+            instant: Instant::now(),
+            ticks: cycles::start(),
+        }
+    }
+
+    /// Milliseconds of wall-clock time since this mark.
+    pub fn ms(&self) -> f64 {
+        self.instant.elapsed().as_secs_f64() * 1e3
+    }
+
+    /// Cycle-counter ticks since this mark.
+    pub fn cycles(&self) -> u64 {
+        cycles::since(self.ticks)
+    }
 }
 
 /// CPU time consumed so far by all threads of this process (including threads that have
