@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# The polymorphism-cost bench (benches/polymorphism/main.rs) and its table: ns per
-# ray-primitive test (wall clock) and TSC ticks per test (cycle counter) for the three
+# The polymorphism-cost bench (benches/polymorphism/main.rs) and its tables: CPU ns per
+# ray-primitive test (process CPU time) and TSC ticks per test (cycle counter) for the
 # storages, and the ratios to per-type arrays. Criterion medians.
 # Usage: benches/polymorphism.sh [criterion filter]
 set -euo pipefail
@@ -17,7 +17,7 @@ def median(group, impl, n):
         return None
     return json.load(open(p))["median"]["point_estimate"]
 
-for group, unit in (("polymorphism", "ns"), ("polymorphism_cycles", "ticks")):
+for group, unit in (("polymorphism", "CPU ns"), ("polymorphism_cycles", "TSC ticks")):
     print(f"\n{group}: {unit} per ray-primitive test (criterion median), ratios to arrays\n")
     print(f"| primitives | dyn | enum | arrays | dyn sorted | enum sorted "
           "| dyn / arrays | enum / arrays | dyn sorted / arrays | enum sorted / arrays |")

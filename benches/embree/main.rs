@@ -23,10 +23,11 @@
 //! called back from Embree, would measure a callback per cone rather than Embree.
 //!
 //! Each measurement is repeated `--runs` times, Embree and tracer interleaved, and the
-//! median wall time is reported as Mrays/s; the ratio is tracer / Embree throughput. The
+//! median wall time is reported as Mrays/s, with Mrays per CPU second of all threads in
+//! parentheses (steadier on a shared machine); the ratio is tracer / Embree throughput. The
 //! agreement is the share of rays where both report the same hit or miss. Build times
-//! (from the parsed scene description, conversion included, on all cores) are printed
-//! too. The environment variable `EMBREE_CONFIG` is passed to `rtcNewDevice`.
+//! (from the parsed scene description, conversion included, on all cores; Embree's
+//! without creating the device) are printed too. The environment variable `EMBREE_CONFIG` is passed to `rtcNewDevice`.
 
 mod ffi;
 
@@ -36,6 +37,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 use tracer::geometry::{offset_ray, polygon::triangulate, AccelOptions};
 use tracer::scene::desc::{SceneDesc, Shape};
+use tracer::stats::process_cpu_ms;
 use tracer::{Ray, Scene};
 use vecexpr::Expr;
 
@@ -79,8 +81,19 @@ unsafe fn fill_buffer<T: Copy>(geom: RTCGeometry, kind: i32, format: i32, items:
 }
 
 impl Embree {
-    /// Builds the Embree scene of `desc` (see the module docs for the mapping).
-    fn build(desc: &SceneDesc) -> Self {
+    /// Builds the Embree scene of `desc` (see the module docs for the mapping), and
+    /// the seconds it took, not counting the creation of the device.
+    fn build(desc: &SceneDesc) -> (Self, f64) {
+        // EMBREE_CONFIG is passed to the device (for example `verbose=1` prints the ISA
+        // and build settings Embree chose).
+        let config = std::env::var("EMBREE_CONFIG")
+            .ok()
+            .and_then(|c| std::ffi::CString::new(c).ok());
+        // SAFETY: `config` outlives the call; a null device is checked below.
+        let device =
+            unsafe { rtcNewDevice(config.as_ref().map_or(std::ptr::null(), |c| c.as_ptr())) };
+        assert!(!device.is_null(), "rtcNewDevice failed");
+        let start = Instant::now();
         let (mut verts, mut tris) = (Vec::<[f32; 3]>::new(), Vec::<[u32; 3]>::new());
         let (mut spheres, mut cones) = (Vec::<[f32; 4]>::new(), Vec::<[f32; 4]>::new());
         let f = |p: &[f64; 3]| p.map(|x| x as f32);
@@ -110,16 +123,9 @@ impl Embree {
                 }
             }
         }
-        // SAFETY: every handle is checked or comes from the device just created; the
-        // buffers are filled with items of the size given for their format.
+        // SAFETY: the device is live; every geometry comes from it; the buffers are
+        // filled with items of the size given for their format.
         unsafe {
-            // EMBREE_CONFIG is passed to the device (for example `verbose=1` prints the
-            // ISA and build settings Embree chose).
-            let config = std::env::var("EMBREE_CONFIG")
-                .ok()
-                .and_then(|c| std::ffi::CString::new(c).ok());
-            let device = rtcNewDevice(config.as_ref().map_or(std::ptr::null(), |c| c.as_ptr()));
-            assert!(!device.is_null(), "rtcNewDevice failed");
             let scene = rtcNewScene(device);
             let attach = |geom: RTCGeometry| {
                 rtcCommitGeometry(geom);
@@ -150,7 +156,7 @@ impl Embree {
             rtcCommitScene(scene);
             let err = rtcGetDeviceError(device);
             assert_eq!(err, RTC_ERROR_NONE, "Embree error {err}");
-            Self { device, scene }
+            (Self { device, scene }, start.elapsed().as_secs_f64())
         }
     }
 
@@ -247,21 +253,45 @@ fn median(mut v: Vec<f64>) -> f64 {
     }
 }
 
-/// Median seconds of `a` and of `b`, run alternately `runs` times.
-fn interleaved(runs: usize, mut a: impl FnMut(), mut b: impl FnMut()) -> (f64, f64) {
-    let (mut ta, mut tb) = (Vec::new(), Vec::new());
+/// Median wall-clock and process CPU seconds of one call.
+#[derive(Clone, Copy, Debug, Default)]
+struct Timing {
+    wall: f64,
+    cpu: f64,
+}
+
+/// Wall and CPU seconds of `f`.
+fn timed(f: &mut impl FnMut()) -> (f64, f64) {
+    let c = process_cpu_ms();
+    let s = Instant::now();
+    f();
+    let wall = s.elapsed().as_secs_f64();
+    let cpu = match (c, process_cpu_ms()) {
+        (Some(a), Some(b)) => (b - a) * 1e-3,
+        _ => 0.0,
+    };
+    (wall, cpu)
+}
+
+/// Median times of `a` and of `b`, run alternately `runs` times.
+fn interleaved(runs: usize, mut a: impl FnMut(), mut b: impl FnMut()) -> (Timing, Timing) {
+    let (mut wa, mut ca, mut wb, mut cb) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     // One untimed round of each first (page faults, caches, thread start).
     a();
     b();
     for _ in 0..runs {
-        let s = Instant::now();
-        a();
-        ta.push(s.elapsed().as_secs_f64());
-        let s = Instant::now();
-        b();
-        tb.push(s.elapsed().as_secs_f64());
+        let (w, c) = timed(&mut a);
+        wa.push(w);
+        ca.push(c);
+        let (w, c) = timed(&mut b);
+        wb.push(w);
+        cb.push(c);
     }
-    (median(ta), median(tb))
+    let t = |w, c| Timing {
+        wall: median(w),
+        cpu: median(c),
+    };
+    (t(wa, ca), t(wb, cb))
 }
 
 /// One row of the report.
@@ -271,8 +301,8 @@ struct Row {
     threads: usize,
     kind: &'static str,
     rays: usize,
-    embree_s: f64,
-    tracer_s: f64,
+    embree: Timing,
+    tracer: Timing,
     agree: f64,
 }
 
@@ -322,14 +352,14 @@ fn measure(
         .flat_map(|y| (0..w).map(move |x| (x, y)))
         .map(|(x, y)| Ray::new(cam.position, cam.direction(x as f32 + 0.5, y as f32 + 0.5)))
         .collect();
-    let row = |kind, rays, (embree_s, tracer_s), agree| Row {
+    let row = |kind, rays, (embree, tracer), agree| Row {
         scene: name.to_string(),
         size: (w, h),
         threads,
         kind,
         rays,
-        embree_s,
-        tracer_s,
+        embree,
+        tracer,
         agree,
     };
     let mut rows = Vec::new();
@@ -531,9 +561,7 @@ fn main() -> std::process::ExitCode {
             .map(|n| n.trim_end_matches(".gz").trim_end_matches(".nff"))
             .unwrap_or("?")
             .to_string();
-        let s = Instant::now();
-        let embree = Embree::build(&desc);
-        let embree_build = s.elapsed().as_secs_f64();
+        let (embree, embree_build) = Embree::build(&desc);
         let s = Instant::now();
         let scene = Scene::<f32>::from_desc(&desc, &AccelOptions::default());
         let tracer_build = s.elapsed().as_secs_f64();
@@ -554,14 +582,15 @@ fn main() -> std::process::ExitCode {
          | tracer / Embree | agreement |\n|---|---|---:|---:|---|---:|---:|---:|---:|"
     );
     for r in &rows {
-        let (e, t) = (mrays(r.rays, r.embree_s), mrays(r.rays, r.tracer_s));
+        let (e, t) = (mrays(r.rays, r.embree.wall), mrays(r.rays, r.tracer.wall));
+        let (ec, tc) = (mrays(r.rays, r.embree.cpu), mrays(r.rays, r.tracer.cpu));
         let ekind = match r.kind {
             "eye" => "eye (rtcIntersect1)",
             "shadow" => "shadow (rtcOccluded1)",
             _ => "eye16 (rtcIntersect16)",
         };
         println!(
-            "| {} | {}x{} | {} | {} | {} | {:.2} | {:.2} | {:.2} | {:.3}% |",
+            "| {} | {}x{} | {} | {} | {} | {:.2} ({:.2}) | {:.2} ({:.2}) | {:.2} ({:.2}) | {:.3}% |",
             r.scene,
             r.size.0,
             r.size.1,
@@ -569,30 +598,36 @@ fn main() -> std::process::ExitCode {
             r.rays,
             ekind,
             e,
+            ec,
             t,
+            tc,
             t / e,
+            tc / ec,
             100.0 * r.agree
         );
     }
     // Geometric means of the ratio per kind and thread count.
     println!(
-        "\n| kind | threads | geomean tracer / Embree | min | max |\n|---|---:|---:|---:|---:|"
+        "\n| kind | threads | geomean tracer / Embree | min | max | geomean per CPU s |\n\
+         |---|---:|---:|---:|---:|---:|"
     );
     for kind in ["eye", "shadow", "eye16"] {
         for &t in &args.threads {
-            let v: Vec<f64> = rows
-                .iter()
-                .filter(|r| r.kind == kind && r.threads == t)
-                .map(|r| r.embree_s / r.tracer_s)
-                .collect();
+            let sel = || rows.iter().filter(|r| r.kind == kind && r.threads == t);
+            let v: Vec<f64> = sel().map(|r| r.embree.wall / r.tracer.wall).collect();
+            let vc: Vec<f64> = sel().map(|r| r.embree.cpu / r.tracer.cpu).collect();
             if v.is_empty() {
                 continue;
             }
-            let g = (v.iter().map(|x| x.ln()).sum::<f64>() / v.len() as f64).exp();
+            let gm = |v: &[f64]| (v.iter().map(|x| x.ln()).sum::<f64>() / v.len() as f64).exp();
             let (lo, hi) = v
                 .iter()
                 .fold((f64::MAX, 0f64), |(a, b), &x| (a.min(x), b.max(x)));
-            println!("| {kind} | {t} | {g:.2} | {lo:.2} | {hi:.2} |");
+            println!(
+                "| {kind} | {t} | {:.2} | {lo:.2} | {hi:.2} | {:.2} |",
+                gm(&v),
+                gm(&vc)
+            );
         }
     }
     println!("\n| scene | Embree build ms | tracer build ms |\n|---|---:|---:|");

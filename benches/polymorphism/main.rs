@@ -17,10 +17,13 @@
 //! tracer's own primitive types, in vecexpr, and inlined into all three, so only the
 //! dispatch and the memory layout differ. Sizes 1 to 4^10 (1,048,576) primitives; each
 //! iteration casts enough rays for at least 2^18 ray-primitive tests. Group
-//! `polymorphism` is timed by the wall clock, `polymorphism_cycles` (sizes up to 4^6) by
-//! the cycle counter ([`benches::cycles::Cycles`]). `benches/polymorphism.sh` runs both
+//! `polymorphism` is timed in process CPU time ([`benches::cpu::CpuTime`], steady on a
+//! shared machine), `polymorphism_cycles` (sizes up to 4^6) by the cycle counter
+//! ([`benches::cycles::Cycles`], which like the wall clock also counts time spent
+//! waiting for a core). `benches/polymorphism.sh` runs both
 //! and prints the table of `benches/RESULTS.md`.
 
+use benches::cpu::CpuTime;
 use benches::cycles::Cycles;
 use benches::data::Pcg32;
 use criterion::measurement::Measurement;
@@ -95,7 +98,7 @@ impl Primitive for Plane<f32> {
         if denom == 0.0 {
             return None;
         }
-        let t = (self.point - r.origin).dot(&self.normal) / denom;
+        let t = (self.point - r.origin).dot(self.normal) / denom;
         (t > 0.0 && t < t_max).then_some(t)
     }
 }
@@ -319,12 +322,12 @@ fn run<M: Measurement>(g: &mut BenchmarkGroup<'_, M>, n: usize) {
 
 fn settings<M: Measurement>(g: &mut BenchmarkGroup<'_, M>) {
     g.warm_up_time(Duration::from_millis(200))
-        .measurement_time(Duration::from_millis(600))
-        .sample_size(10)
+        .measurement_time(Duration::from_millis(800))
+        .sample_size(15)
         .nresamples(2000);
 }
 
-fn wall(c: &mut Criterion) {
+fn cpu(c: &mut Criterion<CpuTime>) {
     let mut g = c.benchmark_group("polymorphism");
     settings(&mut g);
     for n in sizes(10) {
@@ -351,8 +354,10 @@ fn main() {
         std::mem::size_of::<Prim>(),
         std::mem::size_of::<Box<dyn Primitive>>()
     );
-    let mut c = Criterion::default().configure_from_args();
-    wall(&mut c);
+    let mut c = Criterion::default()
+        .with_measurement(CpuTime)
+        .configure_from_args();
+    cpu(&mut c);
     c.final_summary();
     let mut c = Criterion::default()
         .with_measurement(Cycles)

@@ -1,9 +1,10 @@
 //! Shared support code for the benchmarks: fixed-seed input data, the eager vector
 //! types every operator of which materialises a temporary, the hand-written loops
 //! (the ceiling), the benchmark configuration, and the reading of criterion's results
-//! for `RESULTS.md` and the plot, and the cycle counter as a criterion measurement.
+//! for `RESULTS.md` and the plot, and the cycle counter and process CPU time as criterion measurements.
 
 pub mod config;
+pub mod cpu;
 pub mod cycles;
 pub mod data;
 pub mod eager;
