@@ -70,7 +70,8 @@ impl Drop for Embree {
 /// `geom` is a live geometry that accepts a buffer of `format` made of `T`s.
 unsafe fn fill_buffer<T: Copy>(geom: RTCGeometry, kind: i32, format: i32, items: &[T]) {
     // SAFETY: the caller guarantees `geom`; Embree returns a buffer of `items.len()`
-    // elements of `size_of::<T>()` bytes (16-byte padded at the end by Embree itself).
+    // elements of `size_of::<T>()` bytes (with the tail padding its 16-byte loads need,
+    // which only shared buffers must provide themselves), checked for null.
     unsafe {
         let p =
             rtcSetNewGeometryBuffer(geom, kind, 0, format, std::mem::size_of::<T>(), items.len())
@@ -134,8 +135,6 @@ impl Embree {
             };
             if !tris.is_empty() {
                 let g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-                // Embree reads vertices with 16-byte loads: one spare vertex at the end.
-                verts.push([0.0; 3]);
                 fill_buffer(g, RTC_BUFFER_TYPE_VERTEX, RTC_FORMAT_FLOAT3, &verts);
                 fill_buffer(g, RTC_BUFFER_TYPE_INDEX, RTC_FORMAT_UINT3, &tris);
                 attach(g);
