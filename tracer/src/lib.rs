@@ -33,6 +33,7 @@ pub mod camera;
 pub mod effects;
 pub mod geometry;
 pub mod image;
+pub mod packet;
 pub mod ray;
 pub mod render;
 pub mod scene;

@@ -11,6 +11,7 @@
 use crate::arith::Arith;
 use crate::effects::{self, has, EffectChoice, EffectFn, EffectSet, EffectsMode, SUPERSAMPLING};
 use crate::image::Image;
+use crate::packet::{eye_hits, EyeGrid, Packets};
 use crate::ray::Ray;
 use crate::shade::{trace_fx, TraceLimits};
 use crate::stats::RayCounts;
@@ -49,6 +50,9 @@ pub struct Settings {
     pub schedule: Schedule,
     /// Approximate arithmetic in shading (default: exact).
     pub arith: Arith,
+    /// Eye rays in SIMD packets (default: the widest instruction set of the CPU); the
+    /// image is the same either way ([`crate::packet`]).
+    pub packets: Packets,
 }
 
 /// The parallel scheduler.
@@ -96,6 +100,7 @@ impl Default for Settings {
             effects: EffectsMode::Auto,
             schedule: Schedule::default(),
             arith: Arith::EXACT,
+            packets: Packets::default(),
         }
     }
 }
@@ -303,6 +308,24 @@ fn eye_sample<T: Real, const FX: u32>(
     trace_fx::<T, FX>(scene, &ray, 1, T::ONE, limits, counts)
 }
 
+/// [`eye_sample`] with the eye ray's closest hit already found (by a packet).
+#[inline]
+fn eye_shade<T: Real, const FX: u32>(
+    scene: &Scene<T>,
+    cam: &crate::Camera<T>,
+    (px, py): (T, T),
+    hit: Option<&crate::Hit<T>>,
+    limits: &TraceLimits<T>,
+    counts: &mut RayCounts,
+) -> Vec3<T> {
+    counts.eye += 1;
+    let ray = Ray::new(cam.position, cam.direction(px, py));
+    match hit {
+        Some(hit) => crate::shade::shade_fx::<T, FX>(scene, &ray, hit, 1, T::ONE, limits, counts),
+        None => scene.background,
+    }
+}
+
 fn to_rgb<T: Real>(c: &Vec3<T>) -> [f32; 3] {
     [
         c[0].to_f64() as f32,
@@ -317,7 +340,7 @@ type TilesDone<V> = (Vec<(usize, Vec<V>)>, RayCounts);
 /// Computes `f(x, y, counts)` for every point of a `w` x `h` grid with the chosen
 /// scheduler, returning the values in row-major order and the summed ray counts. The
 /// value of a point does not depend on the scheduler or the thread that computes it.
-fn for_each_point<V, F>(
+pub(crate) fn for_each_point<V, F>(
     w: usize,
     h: usize,
     settings: &Settings,
@@ -444,6 +467,19 @@ fn render_grid<T: Real, const FX: u32>(
     let inv_a = T::from_f64(1.0 / a as f64);
     let norm = T::from_f64(1.0 / (a as f64 * a as f64));
     let mut image = Image::new(w, h);
+    // Packets trace the one ray per pixel through the centre: for a = 1 the grid point
+    // below is x + (0 + 1/2) * 1 = x + 1/2 exactly.
+    let eye = if a == 1 {
+        eye_hits(
+            scene,
+            &cam,
+            settings,
+            EyeGrid::Centers,
+            (w as usize, h as usize),
+        )
+    } else {
+        None
+    };
     let bar = progress_bar(settings, h as u64);
     let (pixels, counts) =
         for_each_point(w as usize, h as usize, settings, &bar, |x, y, counts| {
@@ -454,7 +490,12 @@ fn render_grid<T: Real, const FX: u32>(
                 // there).
                 let half = T::from_f64(0.5);
                 let (sx, sy) = (T::from_f64(x as f64) + half, T::from_f64(y as f64) + half);
-                sum += eye_sample::<T, FX>(scene, &cam, sx, sy, &limits, counts);
+                sum += match &eye {
+                    Some(eye) => {
+                        eye_shade::<T, FX>(scene, &cam, (sx, sy), eye.get(x, y), &limits, counts)
+                    }
+                    None => eye_sample::<T, FX>(scene, &cam, sx, sy, &limits, counts),
+                };
                 return to_rgb(&sum);
             }
             for j in 0..a {
@@ -462,7 +503,17 @@ fn render_grid<T: Real, const FX: u32>(
                 for i in 0..a {
                     let sx =
                         T::from_f64(x as f64) + (T::from_f64(i as f64) + T::from_f64(0.5)) * inv_a;
-                    sum += eye_sample::<T, FX>(scene, &cam, sx, sy, &limits, counts);
+                    sum += match &eye {
+                        Some(eye) => eye_shade::<T, FX>(
+                            scene,
+                            &cam,
+                            (sx, sy),
+                            eye.get(x, y),
+                            &limits,
+                            counts,
+                        ),
+                        None => eye_sample::<T, FX>(scene, &cam, sx, sy, &limits, counts),
+                    };
                 }
             }
             to_rgb(&sum.scale(norm).eval())
@@ -481,8 +532,13 @@ fn render_corners<T: Real, const FX: u32>(
     let cam = scene.camera_for(w, h);
     let limits = settings.limits::<T>();
     let (cw, ch) = (w as usize + 1, h as usize + 1);
+    let eye = eye_hits(scene, &cam, settings, EyeGrid::Corners, (cw, ch));
     let bar = progress_bar(settings, ch as u64);
     let (corners, counts) = for_each_point(cw, ch, settings, &bar, |x, y, counts| {
+        if let Some(eye) = &eye {
+            let p = EyeGrid::Corners.point::<T>(x, y);
+            return eye_shade::<T, FX>(scene, &cam, p, eye.get(x, y), &limits, counts);
+        }
         eye_sample::<T, FX>(
             scene,
             &cam,
