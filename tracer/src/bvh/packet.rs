@@ -74,6 +74,7 @@ impl<S: SimdF32> PacketRay<S> {
     /// [`TraversalRay::hit_box`] in every lane: which lanes overlap the box within
     /// `(t_min, t_max]` (conservatively), and their entry distances.
     #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // the axis indexes four arrays, as in `hit_box`
     pub fn hit_box(&self, b: &[[f32; 3]; 2], t_max: S) -> (S::Mask, S) {
         let mut t_near = self.t_min;
         let mut t_far = t_max;
@@ -138,7 +139,7 @@ impl Bvh {
                         let both = ml.and(mr).bitmask();
                         let left_first = if both != 0 {
                             let i = both.trailing_zeros() as usize;
-                            !(tr.lane(i) < tl.lane(i))
+                            tr.lane(i) >= tl.lane(i)
                         } else {
                             true
                         };

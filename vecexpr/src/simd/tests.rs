@@ -1,6 +1,9 @@
 //! Every lane operation against the scalar `f32` result, lane by lane and bit for bit,
 //! for each instruction set the CPU has.
 
+// Tables of (name, result, reference) and lane-indexed comparisons read best as they are.
+#![allow(clippy::type_complexity, clippy::needless_range_loop)]
+
 use super::*;
 use crate::{select, vec3, Expr, Vec3};
 
