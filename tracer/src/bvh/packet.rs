@@ -8,8 +8,10 @@
 //! lane by lane and operation by operation, so lane `i` accepts a box exactly when the
 //! single ray `i` does; the leaf sees the rays that accept its box. Children are visited
 //! nearest first by the entry distance of the first ray that hits both; the other child
-//! is pushed with the rays' entry distances and, on pop, each ray leaves the mask when
-//! its closest hit so far lies before the entry (the single-ray pop test, per lane).
+//! is pushed with its mask and, on pop, its box is tested again with the rays' closest
+//! hits so far, so each ray leaves the mask when its hit lies before the box (a test at
+//! least as tight as the single-ray pop test, and as conservative). The stack holds no
+//! per-lane distances, which keeps it small.
 //!
 //! The closest hit the geometry reports does not depend on the visiting order (ties are
 //! broken by primitive index), and a ray takes part in every leaf its own traversal
@@ -119,7 +121,6 @@ impl Bvh {
         }
         let mut stack_node = [0u32; STACK_SIZE];
         let mut stack_mask = [0u32; STACK_SIZE];
-        let mut stack_t = [S::zero(); STACK_SIZE];
         let mut sp = 0usize;
         let mut at = 0usize;
         loop {
@@ -143,14 +144,13 @@ impl Bvh {
                         } else {
                             true
                         };
-                        let (near, nm, far, fm, ft) = if left_first {
-                            (l, ml, r, mr, tr)
+                        let (near, nm, far, fm) = if left_first {
+                            (l, ml, r, mr)
                         } else {
-                            (r, mr, l, ml, tl)
+                            (r, mr, l, ml)
                         };
                         stack_node[sp] = far as u32;
                         stack_mask[sp] = fm.bitmask();
-                        stack_t[sp] = ft;
                         sp += 1;
                         at = near;
                         mask = nm;
@@ -175,10 +175,11 @@ impl Bvh {
                     return t_max;
                 }
                 sp -= 1;
-                let still = stack_t[sp].le(t_max * ray.slack);
+                let n = stack_node[sp] as usize;
+                let (still, _) = ray.hit_box(&nodes[n].bounds, t_max);
                 let m = S::Mask::from_bitmask(stack_mask[sp]).and(still);
                 if m.any() {
-                    at = stack_node[sp] as usize;
+                    at = n;
                     mask = m;
                     break;
                 }
