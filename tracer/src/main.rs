@@ -73,8 +73,9 @@ impl ScheduleArgs {
 /// Eye-ray packet options shared by `render` and `bench`.
 #[derive(clap::Args, Debug)]
 struct PacketArgs {
-    /// Trace eye rays in SIMD packets (the image is the same either way).
-    #[arg(long, value_parser = ["on", "off"], default_value = "on")]
+    /// Trace eye rays in SIMD packets (the image is the same either way); auto: on with
+    /// AVX2 or AVX-512, or with the --isa named.
+    #[arg(long, value_parser = ["auto", "on", "off"], default_value = "auto")]
     packets: String,
     /// Instruction set of the packet kernels: the CPU's widest (auto) or a named one.
     #[arg(long, value_parser = ["auto", "sse2", "avx2", "avx512"], default_value = "auto")]

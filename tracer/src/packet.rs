@@ -1,10 +1,10 @@
 //! Eye rays traced in SIMD packets, one packet per block of pixels.
 //!
-//! With packets on, a frame first finds the closest hit of every eye ray, a block of
-//! `W` pixels at a time ([`block_shape`]: 2x2 for SSE2's four lanes, 4x2 for AVX2's
-//! eight, 4x4 for AVX-512's sixteen), traced as one packet through the BVH
+//! With packets on, the renderer works through the image a block of `W` pixels at a time
+//! ([`block_shape`]: 2x2 for SSE2's four lanes, 4x2 for AVX2's eight, 4x4 for AVX-512's
+//! sixteen): the block's eye rays are traced as one packet through the BVH
 //! ([`crate::geometry::Geometry::intersect_packet`]) by the kernel compiled for the
-//! chosen instruction set ([`vecexpr::simd::Isa::dispatch`]). Each pixel is then shaded
+//! chosen instruction set ([`vecexpr::simd::Isa::dispatch`]), then each pixel is shaded
 //! from its hit by the single-ray shading code; secondary rays stay single. Hits are
 //! bit-identical to the single-ray ones, so the image is the same with packets on or
 //! off and for every instruction set.
@@ -17,7 +17,7 @@ use crate::geometry::Geometry;
 use crate::ray::{Hit, Ray};
 use crate::render::Settings;
 use crate::world::Scene;
-use core::any::Any;
+use core::any::{Any, TypeId};
 use vecexpr::simd::{Isa, Kernel, SimdF32};
 use vecexpr::Real;
 
@@ -38,10 +38,14 @@ impl Default for Packets {
 }
 
 impl Packets {
-    /// Packets of the widest instruction set of the running CPU; off where there is none
-    /// (off x86-64).
+    /// Packets of the widest instruction set of the running CPU when that is AVX2 or
+    /// AVX-512; off on a CPU with SSE2 only (where four-ray packets over the binary tree
+    /// measured slower than single rays over the four-wide one) and off x86-64.
     pub fn auto() -> Self {
-        Isa::detect().map_or(Self::Off, Self::On)
+        match Isa::detect() {
+            Some(isa) if isa >= Isa::Avx2 => Self::On(isa),
+            _ => Self::Off,
+        }
     }
 
     /// The instruction set, when on.
@@ -60,13 +64,14 @@ impl Packets {
         }
     }
 
-    /// From the command line's `--packets on|off` and `--isa auto|sse2|avx2|avx512`.
+    /// From the command line's `--packets auto|on|off` and `--isa auto|sse2|avx2|avx512`:
+    /// `auto` packets are [`Packets::auto`] unless an instruction set is named.
     ///
     /// # Errors
     /// A message naming the instruction sets available when the CPU lacks the one asked
     /// for, or when the words are not among those above.
-    pub fn from_args(packets: &str, isa: &str) -> Result<Self, String> {
-        let isa = match isa {
+    pub fn from_args(packets: &str, isa_name: &str) -> Result<Self, String> {
+        let isa = match isa_name {
             "auto" => Isa::detect(),
             name => {
                 let Some(isa) = Isa::from_name(name) else {
@@ -88,9 +93,11 @@ impl Packets {
         };
         match (packets, isa) {
             ("off", _) => Ok(Self::Off),
+            ("auto", Some(named)) if isa_name != "auto" => Ok(Self::On(named)),
+            ("auto", _) => Ok(Self::auto()),
             ("on", Some(isa)) => Ok(Self::On(isa)),
             ("on", None) => Err("--packets on: no SIMD instruction set on this CPU".into()),
-            (other, _) => Err(format!("--packets {other}: expected on or off")),
+            (other, _) => Err(format!("--packets {other}: expected auto, on or off")),
         }
     }
 }
@@ -105,7 +112,7 @@ pub fn block_shape(isa: Isa) -> (usize, usize) {
 }
 
 /// Lanes of the widest packet.
-const MAX_LANES: usize = crate::geometry::packet::MAX_LANES;
+pub(crate) const MAX_LANES: usize = crate::geometry::packet::MAX_LANES;
 
 /// One packet's hits, lane `j * width + i` for pixel `(i, j)` of the block.
 type Block<T> = [Option<Hit<T>>; MAX_LANES];
@@ -216,32 +223,45 @@ fn trace_block(
     out
 }
 
-/// With packets on, an `f32` scene and camera: the eye hits of a `w` x `h` grid, traced
-/// in packets on `settings`' scheduler and threads. `None` otherwise (trace single rays).
-pub(crate) fn eye_hits<T: Real>(
+/// The instruction set of the packets `settings` asks for, when the renderer's precision
+/// `T` is `f32` (packets are `f32` lanes); `None`: trace single rays.
+pub(crate) fn packet_isa<T: Real>(settings: &Settings) -> Option<Isa> {
+    if TypeId::of::<T>() == TypeId::of::<f32>() {
+        settings.packets.isa()
+    } else {
+        None
+    }
+}
+
+/// `a` as the type `B` when `A` and `B` are the same type.
+fn same_type<A: 'static, B: 'static>(a: A) -> Option<B> {
+    let mut a = Some(a);
+    (&mut a as &mut dyn Any)
+        .downcast_mut::<Option<B>>()
+        .and_then(Option::take)
+}
+
+/// The eye rays of block `(bx, by)` of a `w` x `h` grid (`None` outside it), lane
+/// `j * width + i` for pixel `(i, j)` of the block, and their closest hits, traced as one
+/// packet of `isa`.
+///
+/// # Panics
+/// If `T` is not `f32` (see [`packet_isa`]) or the CPU lacks `isa`.
+#[allow(clippy::type_complexity)]
+pub(crate) fn eye_block<T: Real>(
     scene: &Scene<T>,
     cam: &Camera<T>,
-    settings: &Settings,
+    isa: Isa,
     grid: EyeGrid,
-    (w, h): (usize, usize),
-) -> Option<EyeHits<T>> {
-    let isa = settings.packets.isa()?;
-    let scene = (scene as &dyn Any).downcast_ref::<Scene<f32>>()?;
-    let cam = (cam as &dyn Any).downcast_ref::<Camera<f32>>()?;
-    let (bw, bh) = block_shape(isa);
-    let (nbx, nby) = (w.div_ceil(bw), h.div_ceil(bh));
-    let bar = indicatif::ProgressBar::hidden();
-    let (blocks, _) = crate::render::for_each_point(nbx, nby, settings, &bar, |bx, by, _| {
-        let rays = block_rays(cam, grid, (bw, bh), (w, h), (bx, by));
-        trace_block(&scene.geometry, isa, &rays)
-    });
-    let hits: Box<dyn Any> = Box::new(EyeHits {
-        blocks,
-        bw,
-        bh,
-        nbx,
-    });
-    hits.downcast::<EyeHits<T>>().ok().map(|b| *b)
+    size: (usize, usize),
+    block: (usize, usize),
+) -> ([Option<Ray<T>>; MAX_LANES], [Option<Hit<T>>; MAX_LANES]) {
+    const F32: &str = "packets trace f32 scenes only";
+    let scene = (scene as &dyn Any).downcast_ref::<Scene<f32>>().expect(F32);
+    let cam = (cam as &dyn Any).downcast_ref::<Camera<f32>>().expect(F32);
+    let rays = block_rays(cam, grid, block_shape(isa), size, block);
+    let hits = trace_block(&scene.geometry, isa, &rays);
+    (same_type(rays).expect(F32), same_type(hits).expect(F32))
 }
 
 /// The eye rays through the pixel centres of an image, gathered into packets once, and

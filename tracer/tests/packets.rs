@@ -148,6 +148,12 @@ fn isa_arguments() {
         Packets::from_args("on", "auto"),
         Ok(Packets::On(Isa::detect().unwrap()))
     );
+    assert_eq!(Packets::from_args("auto", "auto"), Ok(Packets::auto()));
+    assert_eq!(
+        Packets::from_args("auto", "sse2"),
+        Ok(Packets::On(Isa::Sse2))
+    );
+    assert!(Packets::auto() == Packets::Off || Packets::auto().isa() >= Some(Isa::Avx2));
     assert!(Packets::from_args("on", "avx").is_err());
     assert!(Packets::from_args("maybe", "auto").is_err());
     for isa in Isa::ALL {
