@@ -202,25 +202,26 @@ fn trace_block(
     rays: &[Option<Ray<f32>>; MAX_LANES],
 ) -> Block<f32> {
     let mut out = [None; MAX_LANES];
-    #[cfg(target_arch = "x86_64")]
-    isa.dispatch(EyeKernel {
-        geometry,
-        rays,
-        out: &mut out,
-    });
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        let _ = (
-            isa,
-            EyeKernel {
-                geometry,
-                rays,
-                out: &mut out,
-            },
-        );
-        unreachable!("no SIMD instruction set off x86-64");
-    }
+    dispatch(
+        isa,
+        EyeKernel {
+            geometry,
+            rays,
+            out: &mut out,
+        },
+    );
     out
+}
+
+#[cfg(target_arch = "x86_64")]
+#[inline]
+fn dispatch(isa: Isa, kernel: EyeKernel<'_>) {
+    isa.dispatch(kernel);
+}
+
+#[cfg(not(target_arch = "x86_64"))]
+fn dispatch(_isa: Isa, _kernel: EyeKernel<'_>) {
+    unreachable!("no SIMD instruction set off x86-64, so no packets");
 }
 
 /// The instruction set of the packets `settings` asks for, when the renderer's precision

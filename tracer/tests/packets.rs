@@ -1,5 +1,6 @@
 //! Eye rays traced in SIMD packets give the single-ray hits bit for bit, so images are
 //! identical with packets on or off and for every instruction set the CPU has.
+#![cfg(target_arch = "x86_64")]
 
 use std::path::Path;
 use tracer::geometry::{AccelOptions, TriangleTest};

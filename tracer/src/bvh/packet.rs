@@ -188,7 +188,7 @@ impl Bvh {
     }
 }
 
-#[cfg(test)]
+#[cfg(all(test, target_arch = "x86_64"))]
 mod tests {
     use super::*;
     use vecexpr::simd::{Isa, Kernel};
