@@ -11,6 +11,7 @@
 
 use crate::geometry::offset_ray;
 use crate::geometry::AccelOptions;
+use crate::packet::{EyePackets, Packets};
 use crate::ray::Ray;
 use crate::render::{render_with_stats, Schedule, Settings};
 use crate::scene::desc::SceneDesc;
@@ -40,6 +41,8 @@ pub struct BenchOptions {
     pub schedule: Schedule,
     /// Acceleration structure options.
     pub accel: AccelOptions,
+    /// Eye-ray packets: of the frame, and the extra packet eye-ray measurement.
+    pub packets: Packets,
 }
 
 impl Default for BenchOptions {
@@ -53,6 +56,7 @@ impl Default for BenchOptions {
             threads: None,
             schedule: Schedule::default(),
             accel: AccelOptions::default(),
+            packets: Packets::default(),
         }
     }
 }
@@ -86,6 +90,11 @@ pub struct BenchRow {
     pub frame: Timing,
     /// Rays of all kinds in one frame.
     pub frame_rays: u64,
+    /// The packets of the frame and of `eye_packet`.
+    pub packets: Packets,
+    /// Eye rays in packets (the same rays as `eye`, interleaved with it run by run):
+    /// median time per run; zero when packets are off or the precision is not `f32`.
+    pub eye_packet: Timing,
 }
 
 /// The median of `v` (0 for none).
@@ -173,7 +182,26 @@ pub fn bench_scene<T: Real>(name: &str, desc: &SceneDesc, opts: &BenchOptions) -
                 }
             });
     };
-    let eye_ms = time_median(opts.runs, || cast_eye(&mut hits));
+    // Packets of the same eye rays (f32 only), run by run alternating with single rays.
+    let scene32 = (&scene as &dyn core::any::Any).downcast_ref::<Scene<f32>>();
+    let cam32 = (&cam as &dyn core::any::Any).downcast_ref::<crate::Camera<f32>>();
+    let mut packets = match (opts.packets.isa(), cam32) {
+        (Some(isa), Some(cam)) => Some(EyePackets::new(cam, isa)),
+        _ => None,
+    };
+    let (mut eye_t, mut packet_t) = (Vec::new(), Vec::new());
+    for _ in 0..opts.runs.max(1) {
+        eye_t.push(time_median(1, || cast_eye(&mut hits)));
+        if let (Some(p), Some(s)) = (packets.as_mut(), scene32) {
+            packet_t.push(time_median(1, || p.cast(s)));
+        }
+    }
+    let median_of = |t: &[Timing]| Timing {
+        wall: median(&mut t.iter().map(|t| t.wall).collect::<Vec<_>>()),
+        cpu: median(&mut t.iter().map(|t| t.cpu).collect::<Vec<_>>()),
+    };
+    let eye_ms = median_of(&eye_t);
+    let eye_packet = median_of(&packet_t);
 
     // Shadow rays toward the first light and mirror rays, from every eye hit.
     let light = scene.lights.first().map(|l| l.position);
@@ -225,6 +253,7 @@ pub fn bench_scene<T: Real>(name: &str, desc: &SceneDesc, opts: &BenchOptions) -
         depth: opts.depth,
         threads: opts.threads,
         schedule: opts.schedule,
+        packets: opts.packets,
         ..Settings::default()
     };
     let (mut frames, mut frames_cpu) = (Vec::new(), Vec::new());
@@ -253,6 +282,8 @@ pub fn bench_scene<T: Real>(name: &str, desc: &SceneDesc, opts: &BenchOptions) -
             cpu: median(&mut frames_cpu),
         },
         frame_rays,
+        packets: opts.packets,
+        eye_packet,
     }
 }
 
@@ -303,6 +334,33 @@ pub fn table(rows: &[BenchRow], peer: &[(String, f64)]) -> String {
             rate(r.frame_rays as usize, &r.frame),
             pm,
             ratio
+        );
+    }
+    s
+}
+
+/// The Markdown table of eye-ray throughput with single rays and with packets (rows
+/// without a packet measurement are left out; empty when there are none). Rays per
+/// wall-clock second and, in parentheses, per CPU second.
+pub fn packet_table(rows: &[BenchRow]) -> String {
+    let rows: Vec<&BenchRow> = rows.iter().filter(|r| r.eye_packet.wall > 0.0).collect();
+    if rows.is_empty() {
+        return String::new();
+    }
+    let mut s = String::from(
+        "| scene | packets | eye single Mrays/s | eye packet Mrays/s | packet / single | frame ms |\n\
+         |---|---|---:|---:|---:|---:|\n",
+    );
+    let rate = |n: usize, t: &Timing| format!("{:.2} ({:.2})", mrays(n, t.wall), mrays(n, t.cpu));
+    for r in rows {
+        s += &format!(
+            "| {} | {} | {} | {} | {:.2} | {:.1} |\n",
+            r.scene,
+            r.packets.name(),
+            rate(r.eye_rays, &r.eye),
+            rate(r.eye_rays, &r.eye_packet),
+            r.eye.wall / r.eye_packet.wall,
+            r.frame.wall,
         );
     }
     s

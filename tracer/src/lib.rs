@@ -34,6 +34,7 @@ pub mod cycles;
 pub mod effects;
 pub mod geometry;
 pub mod image;
+pub mod packet;
 pub mod ray;
 pub mod render;
 pub mod scene;

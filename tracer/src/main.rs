@@ -70,6 +70,24 @@ impl ScheduleArgs {
     }
 }
 
+/// Eye-ray packet options shared by `render` and `bench`.
+#[derive(clap::Args, Debug)]
+struct PacketArgs {
+    /// Trace eye rays in SIMD packets (the image is the same either way); auto: on with
+    /// AVX2 or AVX-512, or with the --isa named.
+    #[arg(long, value_parser = ["auto", "on", "off"], default_value = "auto")]
+    packets: String,
+    /// Instruction set of the packet kernels: the CPU's widest (auto) or a named one.
+    #[arg(long, value_parser = ["auto", "sse2", "avx2", "avx512"], default_value = "auto")]
+    isa: String,
+}
+
+impl PacketArgs {
+    fn packets(&self) -> Result<tracer::packet::Packets, String> {
+        tracer::packet::Packets::from_args(&self.packets, &self.isa)
+    }
+}
+
 #[derive(clap::Args, Debug)]
 struct BenchArgs {
     /// Scene files (.nff, .nff.gz, .obj).
@@ -104,6 +122,8 @@ struct BenchArgs {
     peer: Option<PathBuf>,
     #[command(flatten)]
     schedule: ScheduleArgs,
+    #[command(flatten)]
+    packets: PacketArgs,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -165,6 +185,8 @@ struct RenderArgs {
     binary_bvh: bool,
     #[command(flatten)]
     schedule: ScheduleArgs,
+    #[command(flatten)]
+    packets: PacketArgs,
     /// OBJ camera position (x,y,z); NFF scenes carry their own camera.
     #[arg(long, value_parser = tracer::scene::parse_vec3, allow_hyphen_values = true)]
     from: Option<[f64; 3]>,
@@ -241,6 +263,7 @@ fn run_bench(args: &BenchArgs) -> Result<(), String> {
             wide: !args.binary_bvh,
             ..AccelOptions::default()
         },
+        packets: args.packets.packets()?,
     };
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(opts.threads.unwrap_or(0))
@@ -261,6 +284,10 @@ fn run_bench(args: &BenchArgs) -> Result<(), String> {
         rows.push(row);
     }
     print!("{}", table(&rows, &peer));
+    let packets = tracer::bench::packet_table(&rows);
+    if !packets.is_empty() {
+        print!("\n{packets}");
+    }
     Ok(())
 }
 
@@ -288,6 +315,7 @@ fn run_render(args: &RenderArgs) -> Result<(), String> {
             args.output.display()
         ));
     }
+    let packets = args.packets.packets()?;
     let desc = load(args)?;
     let parse = (start.ms(), start.cycles());
     let settings = Settings {
@@ -304,6 +332,7 @@ fn run_render(args: &RenderArgs) -> Result<(), String> {
             Effects::All => EffectsMode::All,
         },
         schedule: args.schedule.schedule(),
+        packets,
         ..Settings::default()
     };
     let accel = AccelOptions {
@@ -357,6 +386,7 @@ fn render_in<T: Real>(
                 "threads": settings.threads.unwrap_or_else(rayon::current_num_threads),
                 "precision": if std::mem::size_of::<T>() == 4 { "f32" } else { "f64" },
                 "spd": settings.spd, "bvh": accel.use_bvh, "effects": settings.effects.name(),
+                "packets": settings.packets.name(),
                 "output": args.output.display().to_string(),
             },
         });

@@ -11,6 +11,7 @@
 use crate::arith::Arith;
 use crate::effects::{self, has, EffectChoice, EffectFn, EffectSet, EffectsMode, SUPERSAMPLING};
 use crate::image::Image;
+use crate::packet::{block_shape, eye_block, packet_isa, EyeGrid, Packets, MAX_LANES};
 use crate::ray::Ray;
 use crate::shade::{trace_fx, TraceLimits};
 use crate::stats::RayCounts;
@@ -49,6 +50,9 @@ pub struct Settings {
     pub schedule: Schedule,
     /// Approximate arithmetic in shading (default: exact).
     pub arith: Arith,
+    /// Eye rays in SIMD packets ([`Packets::auto`] by default); the image is the same
+    /// either way ([`crate::packet`]).
+    pub packets: Packets,
 }
 
 /// The parallel scheduler.
@@ -96,6 +100,7 @@ impl Default for Settings {
             effects: EffectsMode::Auto,
             schedule: Schedule::default(),
             arith: Arith::EXACT,
+            packets: Packets::default(),
         }
     }
 }
@@ -308,6 +313,59 @@ fn eye_sample<T: Real, const FX: u32>(
     trace_fx::<T, FX>(scene, &ray, 1, T::ONE, limits, counts)
 }
 
+/// The radiance of each eye ray of one packet of block `(bx, by)` of a `w` x `h` grid,
+/// traced together ([`eye_block`]) and shaded one by one as [`eye_sample`] shades them;
+/// `put(lane, radiance)` for each lane with a ray.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+fn eye_packet<T: Real, const FX: u32>(
+    scene: &Scene<T>,
+    cam: &crate::Camera<T>,
+    isa: vecexpr::simd::Isa,
+    grid: EyeGrid,
+    size: (usize, usize),
+    block: (usize, usize),
+    limits: &TraceLimits<T>,
+    counts: &mut RayCounts,
+    mut put: impl FnMut(usize, Vec3<T>),
+) {
+    let (rays, hits) = eye_block(scene, cam, isa, grid, size, block);
+    for (l, (ray, hit)) in rays.iter().zip(&hits).enumerate() {
+        let Some(ray) = ray else { continue };
+        counts.eye += 1;
+        let c = match hit {
+            Some(hit) => {
+                crate::shade::shade_fx::<T, FX>(scene, ray, hit, 1, T::ONE, limits, counts)
+            }
+            None => scene.background,
+        };
+        put(l, c);
+    }
+}
+
+/// Writes the per-block values of a `w` x `h` grid of blocks of `isa`'s shape into
+/// `out`, row-major.
+fn scatter<V: Copy>(
+    blocks: &[[V; MAX_LANES]],
+    isa: vecexpr::simd::Isa,
+    (w, h): (usize, usize),
+    out: &mut [V],
+) {
+    let (bw, bh) = block_shape(isa);
+    let nbx = w.div_ceil(bw);
+    for (k, b) in blocks.iter().enumerate() {
+        let (bx, by) = (k % nbx, k / nbx);
+        for j in 0..bh {
+            for i in 0..bw {
+                let (x, y) = (bx * bw + i, by * bh + j);
+                if x < w && y < h {
+                    out[y * w + x] = b[j * bw + i];
+                }
+            }
+        }
+    }
+}
+
 fn to_rgb<T: Real>(c: &Vec3<T>) -> [f32; 3] {
     [
         c[0].to_f64() as f32,
@@ -449,6 +507,41 @@ fn render_grid<T: Real, const FX: u32>(
     let inv_a = T::from_f64(1.0 / a as f64);
     let norm = T::from_f64(1.0 / (a as f64 * a as f64));
     let mut image = Image::new(w, h);
+    // Packets trace the one ray per pixel through the centre: for a = 1 the grid point
+    // below is x + (0 + 1/2) * 1 = x + 1/2 exactly, and the pixel the same sum.
+    if let Some(isa) = packet_isa::<T>(settings).filter(|_| a == 1) {
+        let size = (w as usize, h as usize);
+        let (bw, bh) = block_shape(isa);
+        let (nbx, nby) = (size.0.div_ceil(bw), size.1.div_ceil(bh));
+        let bar = progress_bar(settings, nby as u64);
+        let (blocks, counts) = for_each_point(nbx, nby, settings, &bar, |bx, by, counts| {
+            let mut out = [[0.0f32; 3]; MAX_LANES];
+            let grid = EyeGrid::Centers;
+            eye_packet::<T, FX>(
+                scene,
+                &cam,
+                isa,
+                grid,
+                size,
+                (bx, by),
+                &limits,
+                counts,
+                |l, c| {
+                    let mut sum = vec3(T::ZERO, T::ZERO, T::ZERO);
+                    sum += c;
+                    out[l] = if has(FX, SUPERSAMPLING) {
+                        to_rgb(&sum.scale(norm).eval())
+                    } else {
+                        to_rgb(&sum)
+                    };
+                },
+            );
+            out
+        });
+        bar.finish_and_clear();
+        scatter(&blocks, isa, size, &mut image.pixels);
+        return (image, counts);
+    }
     let bar = progress_bar(settings, h as u64);
     let (pixels, counts) =
         for_each_point(w as usize, h as usize, settings, &bar, |x, y, counts| {
@@ -486,18 +579,51 @@ fn render_corners<T: Real, const FX: u32>(
     let cam = scene.camera_for(w, h);
     let limits = settings.limits::<T>();
     let (cw, ch) = (w as usize + 1, h as usize + 1);
-    let bar = progress_bar(settings, ch as u64);
-    let (corners, counts) = for_each_point(cw, ch, settings, &bar, |x, y, counts| {
-        eye_sample::<T, FX>(
-            scene,
-            &cam,
-            T::from_f64(x as f64),
-            T::from_f64(y as f64),
-            &limits,
-            counts,
-        )
-    });
-    bar.finish_and_clear();
+    let (corners, counts) = match packet_isa::<T>(settings) {
+        Some(isa) => {
+            let (bw, bh) = block_shape(isa);
+            let (nbx, nby) = (cw.div_ceil(bw), ch.div_ceil(bh));
+            let bar = progress_bar(settings, nby as u64);
+            let (blocks, counts) = for_each_point(nbx, nby, settings, &bar, |bx, by, counts| {
+                let mut out = [Vec3::<T>::zero(); MAX_LANES];
+                let grid = EyeGrid::Corners;
+                let size = (cw, ch);
+                eye_packet::<T, FX>(
+                    scene,
+                    &cam,
+                    isa,
+                    grid,
+                    size,
+                    (bx, by),
+                    &limits,
+                    counts,
+                    |l, c| {
+                        out[l] = c;
+                    },
+                );
+                out
+            });
+            bar.finish_and_clear();
+            let mut corners = vec![Vec3::<T>::zero(); cw * ch];
+            scatter(&blocks, isa, (cw, ch), &mut corners);
+            (corners, counts)
+        }
+        None => {
+            let bar = progress_bar(settings, ch as u64);
+            let done = for_each_point(cw, ch, settings, &bar, |x, y, counts| {
+                eye_sample::<T, FX>(
+                    scene,
+                    &cam,
+                    T::from_f64(x as f64),
+                    T::from_f64(y as f64),
+                    &limits,
+                    counts,
+                )
+            });
+            bar.finish_and_clear();
+            done
+        }
+    };
     let quarter = T::from_f64(0.25);
     let mut image = Image::new(w, h);
     for y in 0..h as usize {

@@ -211,3 +211,22 @@ macro_rules! lane_operand {
 }
 lane_operand!(f32);
 lane_operand!(f64);
+
+/// A plain `f32` next to an expression of explicit SIMD lanes is broadcast to every lane.
+macro_rules! simd_lane_operand {
+    ($t:ty) => {
+        impl<N: ArrayLength> Operand<$t, N> for f32 {
+            type Expr = Splat<$t, N>;
+            #[inline(always)]
+            fn into_expr(self) -> Self::Expr {
+                Splat::new(<$t as Scalar>::splat(self))
+            }
+        }
+    };
+}
+#[cfg(target_arch = "x86_64")]
+simd_lane_operand!(crate::simd::F32x4);
+#[cfg(target_arch = "x86_64")]
+simd_lane_operand!(crate::simd::F32x8);
+#[cfg(target_arch = "x86_64")]
+simd_lane_operand!(crate::simd::F32x16);

@@ -80,6 +80,7 @@ pub mod op;
 mod ops;
 mod packet;
 mod scalar;
+pub mod simd;
 mod vector;
 
 pub use expr::{

@@ -36,6 +36,12 @@ macro_rules! binary_ops {
         scalar_left!([$($g)*] $ty => $ety, |$s| $conv, f32);
         scalar_left!([$($g)*] $ty => $ety, |$s| $conv, f64);
         packet_left!([$($g)*] $ty => $ety, |$s| $conv);
+        #[cfg(target_arch = "x86_64")]
+        scalar_left!([$($g)*] $ty => $ety, |$s| $conv, crate::simd::F32x4);
+        #[cfg(target_arch = "x86_64")]
+        scalar_left!([$($g)*] $ty => $ety, |$s| $conv, crate::simd::F32x8);
+        #[cfg(target_arch = "x86_64")]
+        scalar_left!([$($g)*] $ty => $ety, |$s| $conv, crate::simd::F32x16);
     };
     (@one [$($g:tt)*] $ty:ty => $ety:ty, |$s:ident| $conv:expr, $tr:ident, $f:ident, $op:ident) => {
         impl<$($g)* Rhs__> $tr<Rhs__> for $ty

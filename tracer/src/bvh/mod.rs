@@ -14,6 +14,7 @@
 
 pub mod build;
 pub mod node;
+pub mod packet;
 pub mod traverse;
 pub mod wide;
 

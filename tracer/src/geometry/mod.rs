@@ -45,6 +45,7 @@ pub mod aabb;
 pub mod builder;
 pub mod cone;
 pub mod offset;
+pub mod packet;
 pub mod plane;
 pub mod polygon;
 pub(crate) mod ray_data;

@@ -1,0 +1,241 @@
+//! Packet traversal of the binary BVH: one SIMD lane per ray.
+//!
+//! In the style of I. Wald, P. Slusallek, C. Benthin, M. Wagner, "Interactive Rendering
+//! with Coherent Ray Tracing", Eurographics 2001: a packet of coherent rays walks the
+//! tree together, a node is visited when any ray of the packet may hit something in it,
+//! and a mask carries which rays take part. Each node's box is tested against every ray
+//! at once with the same conservative slab test as [`TraversalRay::hit_box`] (Ize 2013),
+//! lane by lane and operation by operation, so lane `i` accepts a box exactly when the
+//! single ray `i` does; the leaf sees the rays that accept its box. Children are visited
+//! nearest first by the entry distance of the first ray that hits both; the other child
+//! is pushed with its mask and, on pop, its box is tested again with the rays' closest
+//! hits so far, so each ray leaves the mask when its hit lies before the box (a test at
+//! least as tight as the single-ray pop test, and as conservative). The stack holds no
+//! per-lane distances, which keeps it small.
+//!
+//! The closest hit the geometry reports does not depend on the visiting order (ties are
+//! broken by primitive index), and a ray takes part in every leaf its own traversal
+//! would reach with its current closest distance or a larger one, so each lane's result
+//! is the single ray's, bit for bit.
+
+use super::traverse::TraversalRay;
+use super::Bvh;
+use vecexpr::simd::{SimdF32, SimdMask};
+use vecexpr::{Mask, Scalar};
+
+/// A packet of rays prepared for box tests: per lane what [`TraversalRay`] holds.
+#[derive(Clone, Copy, Debug)]
+pub struct PacketRay<S: SimdF32> {
+    /// Origins, per axis.
+    pub origin: [S; 3],
+    /// Inverse directions, per axis.
+    pub inv_dir: [S; 3],
+    /// Lanes whose direction is negative on the axis (near plane `hi`).
+    pub neg: [S::Mask; 3],
+    /// Smallest accepted parameters.
+    pub t_min: S,
+    /// $1 + 2\gamma_3$ (the same in every lane).
+    pub slack: S,
+}
+
+impl<S: SimdF32> PacketRay<S> {
+    /// Gathers `rays[i]` into lane `i`; lanes without a ray get a copy of the first ray
+    /// that exists (and must be left out of the active mask by the caller). `None` if no
+    /// lane has a ray.
+    ///
+    /// # Panics
+    /// If `rays` has fewer than `S::LANES` entries.
+    #[inline(always)]
+    pub fn gather(rays: &[Option<&TraversalRay<f32>>]) -> Option<Self> {
+        let first = rays[..S::LANES].iter().flatten().next()?;
+        let mut buf = [[0.0f32; 16]; 7];
+        for (i, r) in rays[..S::LANES].iter().enumerate() {
+            let r = r.unwrap_or(first);
+            for a in 0..3 {
+                buf[a][i] = r.origin[a];
+                buf[3 + a][i] = r.inv_dir[a];
+            }
+            buf[6][i] = r.t_min;
+        }
+        let inv_dir = [S::load(&buf[3]), S::load(&buf[4]), S::load(&buf[5])];
+        let zero = S::zero();
+        Some(Self {
+            origin: [S::load(&buf[0]), S::load(&buf[1]), S::load(&buf[2])],
+            inv_dir,
+            // As `TraversalRay::new`: 1/-0 = -inf picks `hi` as the near plane too.
+            neg: [
+                inv_dir[0].lt(zero),
+                inv_dir[1].lt(zero),
+                inv_dir[2].lt(zero),
+            ],
+            t_min: S::load(&buf[6]),
+            slack: S::splat(first.slack),
+        })
+    }
+
+    /// [`TraversalRay::hit_box`] in every lane: which lanes overlap the box within
+    /// `(t_min, t_max]` (conservatively), and their entry distances.
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // the axis indexes four arrays, as in `hit_box`
+    pub fn hit_box(&self, b: &[[f32; 3]; 2], t_max: S) -> (S::Mask, S) {
+        let mut t_near = self.t_min;
+        let mut t_far = t_max;
+        for a in 0..3 {
+            let (lo, hi) = (S::splat(b[0][a]), S::splat(b[1][a]));
+            let near = S::select(self.neg[a], hi, lo);
+            let far = S::select(self.neg[a], lo, hi);
+            let tn = (near - self.origin[a]) * self.inv_dir[a];
+            let tf = (far - self.origin[a]) * self.inv_dir[a];
+            // minps/maxps rule: a NaN `tn`/`tf` leaves the running value unchanged.
+            t_near = Scalar::max(tn, t_near);
+            t_far = Scalar::min(tf, t_far);
+        }
+        (t_near.le(t_far * self.slack), t_near)
+    }
+}
+
+/// Pending nodes of the packet traversal (one per level, as for single rays).
+const STACK_SIZE: usize = super::build::MAX_DEPTH;
+
+impl Bvh {
+    /// Walks the binary tree with a packet: calls `leaf(refs, mask, t_max)` for each leaf
+    /// whose box some active ray overlaps before its `t_max`, with the mask of those
+    /// rays; `leaf` returns the rays' new `t_max` (their closest hits so far). Rays
+    /// outside `active` never take part. Returns the final `t_max`.
+    #[inline(always)]
+    pub fn traverse_packet<S: SimdF32>(
+        &self,
+        ray: &PacketRay<S>,
+        active: S::Mask,
+        mut t_max: S,
+        mut leaf: impl FnMut(&[u32], S::Mask, S) -> S,
+    ) -> S {
+        let nodes = self.nodes();
+        let Some(root) = nodes.first() else {
+            return t_max;
+        };
+        let (hit, _) = ray.hit_box(&root.bounds, t_max);
+        let mut mask = hit.and(active);
+        if !mask.any() {
+            return t_max;
+        }
+        let mut stack_node = [0u32; STACK_SIZE];
+        let mut stack_mask = [0u32; STACK_SIZE];
+        let mut sp = 0usize;
+        let mut at = 0usize;
+        loop {
+            let node = &nodes[at];
+            if node.is_leaf() {
+                let first = node.offset as usize;
+                let refs = &self.refs()[first..first + node.count as usize];
+                t_max = leaf(refs, mask, t_max);
+            } else {
+                let (l, r) = (at + 1, node.offset as usize);
+                let (hl, tl) = ray.hit_box(&nodes[l].bounds, t_max);
+                let (hr, tr) = ray.hit_box(&nodes[r].bounds, t_max);
+                let (ml, mr) = (hl.and(mask), hr.and(mask));
+                match (ml.any(), mr.any()) {
+                    (true, true) => {
+                        // Order by the first ray that enters both.
+                        let both = ml.and(mr).bitmask();
+                        let left_first = if both != 0 {
+                            let i = both.trailing_zeros() as usize;
+                            tr.lane(i) >= tl.lane(i)
+                        } else {
+                            true
+                        };
+                        let (near, nm, far, fm) = if left_first {
+                            (l, ml, r, mr)
+                        } else {
+                            (r, mr, l, ml)
+                        };
+                        stack_node[sp] = far as u32;
+                        stack_mask[sp] = fm.bitmask();
+                        sp += 1;
+                        at = near;
+                        mask = nm;
+                        continue;
+                    }
+                    (true, false) => {
+                        at = l;
+                        mask = ml;
+                        continue;
+                    }
+                    (false, true) => {
+                        at = r;
+                        mask = mr;
+                        continue;
+                    }
+                    (false, false) => {}
+                }
+            }
+            // Pop the nearest pending node that some ray may still find a closer hit in.
+            loop {
+                if sp == 0 {
+                    return t_max;
+                }
+                sp -= 1;
+                let n = stack_node[sp] as usize;
+                let (still, _) = ray.hit_box(&nodes[n].bounds, t_max);
+                let m = S::Mask::from_bitmask(stack_mask[sp]).and(still);
+                if m.any() {
+                    at = n;
+                    mask = m;
+                    break;
+                }
+            }
+        }
+    }
+}
+
+#[cfg(all(test, target_arch = "x86_64"))]
+mod tests {
+    use super::*;
+    use vecexpr::simd::{Isa, Kernel};
+    use vecexpr::vec3;
+
+    struct BoxTest;
+
+    impl Kernel for BoxTest {
+        type Output = usize;
+        fn run<S: SimdF32>(self) -> usize {
+            let boxes = [
+                [[0.0f32, 0.0, 0.0], [1.0, 1.0, 1.0]],
+                [[0.0, 0.5, -1.0], [0.0, 0.5, 1.0]],
+                [[-5.0, -5.0, -5.0], [-4.0, -4.0, -4.0]],
+            ];
+            let rays: Vec<TraversalRay<f32>> = (0..S::LANES)
+                .map(|i| {
+                    let f = i as f32;
+                    let d = vec3(1.0 - f * 0.2, if i % 3 == 0 { 0.0 } else { -0.1 * f }, 0.3);
+                    let d = if i % 4 == 1 { vec3(-0.0, 0.0, 1.0) } else { d };
+                    TraversalRay::new(&vec3(-1.0 + 0.1 * f, 0.5, 0.25 * f - 1.0), &d, 0.0)
+                })
+                .collect();
+            let refs: Vec<Option<&TraversalRay<f32>>> = rays.iter().map(Some).collect();
+            let p = PacketRay::<S>::gather(&refs).unwrap();
+            let mut checked = 0;
+            for b in &boxes {
+                for t_max in [f32::INFINITY, 1.5] {
+                    let (hit, tn) = p.hit_box(b, S::splat(t_max));
+                    for (i, r) in rays.iter().enumerate() {
+                        let single = r.hit_box(b, t_max);
+                        assert_eq!(single.is_some(), hit.test(i), "lane {i}");
+                        if let Some(t) = single {
+                            assert_eq!(t.to_bits(), tn.lane(i).to_bits());
+                        }
+                        checked += 1;
+                    }
+                }
+            }
+            checked
+        }
+    }
+
+    #[test]
+    fn packet_box_test_is_the_single_ray_test_per_lane() {
+        for isa in Isa::available() {
+            assert_eq!(isa.dispatch(BoxTest), 6 * isa.lanes());
+        }
+    }
+}

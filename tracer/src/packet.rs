@@ -1,0 +1,327 @@
+//! Eye rays traced in SIMD packets, one packet per block of pixels.
+//!
+//! With packets on, the renderer works through the image a block of `W` pixels at a time
+//! ([`block_shape`]: 2x2 for SSE2's four lanes, 4x2 for AVX2's eight, 4x4 for AVX-512's
+//! sixteen): the block's eye rays are traced as one packet through the BVH
+//! ([`crate::geometry::Geometry::intersect_packet`]) by the kernel compiled for the
+//! chosen instruction set ([`vecexpr::simd::Isa::dispatch`]), then each pixel is shaded
+//! from its hit by the single-ray shading code; secondary rays stay single. Hits are
+//! bit-identical to the single-ray ones, so the image is the same with packets on or
+//! off and for every instruction set.
+//!
+//! Packets serve the `f32` renderers of one ray per pixel (and the SPD corner rays);
+//! `f64` scenes and supersampling trace single rays. Off x86-64 there are no packets.
+
+use crate::camera::Camera;
+use crate::geometry::Geometry;
+use crate::ray::{Hit, Ray};
+use crate::render::Settings;
+use crate::world::Scene;
+use core::any::{Any, TypeId};
+use vecexpr::simd::{Isa, Kernel, SimdF32};
+use vecexpr::Real;
+
+/// How eye rays are traced.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Packets {
+    /// One ray at a time.
+    Off,
+    /// In packets of the instruction set's width.
+    On(Isa),
+}
+
+impl Default for Packets {
+    /// [`Packets::auto`].
+    fn default() -> Self {
+        Self::auto()
+    }
+}
+
+impl Packets {
+    /// Packets of the widest instruction set of the running CPU when that is AVX2 or
+    /// AVX-512; off on a CPU with SSE2 only (where four-ray packets over the binary tree
+    /// measured slower than single rays over the four-wide one) and off x86-64.
+    pub fn auto() -> Self {
+        match Isa::detect() {
+            Some(isa) if isa >= Isa::Avx2 => Self::On(isa),
+            _ => Self::Off,
+        }
+    }
+
+    /// The instruction set, when on.
+    pub fn isa(self) -> Option<Isa> {
+        match self {
+            Self::Off => None,
+            Self::On(isa) => Some(isa),
+        }
+    }
+
+    /// `off` or the instruction set's name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Off => "off",
+            Self::On(isa) => isa.name(),
+        }
+    }
+
+    /// From the command line's `--packets auto|on|off` and `--isa auto|sse2|avx2|avx512`:
+    /// `auto` packets are [`Packets::auto`] unless an instruction set is named.
+    ///
+    /// # Errors
+    /// A message naming the instruction sets available when the CPU lacks the one asked
+    /// for, or when the words are not among those above.
+    pub fn from_args(packets: &str, isa_name: &str) -> Result<Self, String> {
+        let isa = match isa_name {
+            "auto" => Isa::detect(),
+            name => {
+                let Some(isa) = Isa::from_name(name) else {
+                    return Err(format!("--isa {name}: expected auto, sse2, avx2 or avx512"));
+                };
+                if !isa.is_available() {
+                    let have: Vec<&str> = Isa::available().iter().map(|i| i.name()).collect();
+                    return Err(format!(
+                        "--isa {name}: this CPU does not support {name} (available: {})",
+                        if have.is_empty() {
+                            "none".to_string()
+                        } else {
+                            have.join(", ")
+                        }
+                    ));
+                }
+                Some(isa)
+            }
+        };
+        match (packets, isa) {
+            ("off", _) => Ok(Self::Off),
+            ("auto", Some(named)) if isa_name != "auto" => Ok(Self::On(named)),
+            ("auto", _) => Ok(Self::auto()),
+            ("on", Some(isa)) => Ok(Self::On(isa)),
+            ("on", None) => Err("--packets on: no SIMD instruction set on this CPU".into()),
+            (other, _) => Err(format!("--packets {other}: expected auto, on or off")),
+        }
+    }
+}
+
+/// The pixel block of one packet: `(width, height)`, `width * height` = lanes.
+pub fn block_shape(isa: Isa) -> (usize, usize) {
+    match isa.lanes() {
+        4 => (2, 2),
+        8 => (4, 2),
+        _ => (4, 4),
+    }
+}
+
+/// Lanes of the widest packet.
+pub(crate) const MAX_LANES: usize = crate::geometry::packet::MAX_LANES;
+
+/// One packet's hits, lane `j * width + i` for pixel `(i, j)` of the block.
+type Block<T> = [Option<Hit<T>>; MAX_LANES];
+
+/// Where the eye ray of grid point `(x, y)` crosses the image plane.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum EyeGrid {
+    /// The pixel centre `(x + 1/2, y + 1/2)`.
+    Centers,
+    /// The pixel corner `(x, y)` (SPD mode).
+    Corners,
+}
+
+impl EyeGrid {
+    /// The image-plane point, computed exactly as the single-ray renderer does.
+    #[inline]
+    pub(crate) fn point<T: Real>(self, x: usize, y: usize) -> (T, T) {
+        match self {
+            Self::Centers => {
+                let half = T::from_f64(0.5);
+                (T::from_f64(x as f64) + half, T::from_f64(y as f64) + half)
+            }
+            Self::Corners => (T::from_f64(x as f64), T::from_f64(y as f64)),
+        }
+    }
+}
+
+/// The closest hit of the eye ray of every point of a grid, stored by packet.
+pub(crate) struct EyeHits<T: Real> {
+    blocks: Vec<Block<T>>,
+    bw: usize,
+    bh: usize,
+    nbx: usize,
+}
+
+impl<T: Real> EyeHits<T> {
+    /// The hit of the eye ray of grid point `(x, y)`.
+    #[inline]
+    pub(crate) fn get(&self, x: usize, y: usize) -> Option<&Hit<T>> {
+        let b = &self.blocks[(y / self.bh) * self.nbx + x / self.bw];
+        b[(y % self.bh) * self.bw + x % self.bw].as_ref()
+    }
+}
+
+/// Runs [`Geometry::intersect_packet`] on one packet.
+struct EyeKernel<'a> {
+    geometry: &'a Geometry<f32>,
+    rays: &'a [Option<Ray<f32>>; MAX_LANES],
+    out: &'a mut Block<f32>,
+}
+
+impl Kernel for EyeKernel<'_> {
+    type Output = ();
+    #[inline(always)]
+    fn run<S: SimdF32>(self) {
+        self.geometry.intersect_packet::<S>(self.rays, self.out);
+    }
+}
+
+/// The eye rays of block `(bx, by)` of a `w` x `h` grid (`None` outside the grid).
+#[inline]
+fn block_rays(
+    cam: &Camera<f32>,
+    grid: EyeGrid,
+    (bw, bh): (usize, usize),
+    (w, h): (usize, usize),
+    (bx, by): (usize, usize),
+) -> [Option<Ray<f32>>; MAX_LANES] {
+    let mut rays = [None; MAX_LANES];
+    for j in 0..bh {
+        for i in 0..bw {
+            let (x, y) = (bx * bw + i, by * bh + j);
+            if x < w && y < h {
+                let (px, py) = grid.point::<f32>(x, y);
+                rays[j * bw + i] = Some(Ray::new(cam.position, cam.direction(px, py)));
+            }
+        }
+    }
+    rays
+}
+
+/// Traces one packet of eye rays with `isa`: the hits of [`block_rays`].
+#[inline]
+fn trace_block(
+    geometry: &Geometry<f32>,
+    isa: Isa,
+    rays: &[Option<Ray<f32>>; MAX_LANES],
+) -> Block<f32> {
+    let mut out = [None; MAX_LANES];
+    dispatch(
+        isa,
+        EyeKernel {
+            geometry,
+            rays,
+            out: &mut out,
+        },
+    );
+    out
+}
+
+#[cfg(target_arch = "x86_64")]
+#[inline]
+fn dispatch(isa: Isa, kernel: EyeKernel<'_>) {
+    isa.dispatch(kernel);
+}
+
+#[cfg(not(target_arch = "x86_64"))]
+fn dispatch(_isa: Isa, _kernel: EyeKernel<'_>) {
+    unreachable!("no SIMD instruction set off x86-64, so no packets");
+}
+
+/// The instruction set of the packets `settings` asks for, when the renderer's precision
+/// `T` is `f32` (packets are `f32` lanes); `None`: trace single rays.
+pub(crate) fn packet_isa<T: Real>(settings: &Settings) -> Option<Isa> {
+    if TypeId::of::<T>() == TypeId::of::<f32>() {
+        settings.packets.isa()
+    } else {
+        None
+    }
+}
+
+/// `a` as the type `B` when `A` and `B` are the same type.
+fn same_type<A: 'static, B: 'static>(a: A) -> Option<B> {
+    let mut a = Some(a);
+    (&mut a as &mut dyn Any)
+        .downcast_mut::<Option<B>>()
+        .and_then(Option::take)
+}
+
+/// The eye rays of block `(bx, by)` of a `w` x `h` grid (`None` outside it), lane
+/// `j * width + i` for pixel `(i, j)` of the block, and their closest hits, traced as one
+/// packet of `isa`.
+///
+/// # Panics
+/// If `T` is not `f32` (see [`packet_isa`]) or the CPU lacks `isa`.
+#[allow(clippy::type_complexity)]
+pub(crate) fn eye_block<T: Real>(
+    scene: &Scene<T>,
+    cam: &Camera<T>,
+    isa: Isa,
+    grid: EyeGrid,
+    size: (usize, usize),
+    block: (usize, usize),
+) -> ([Option<Ray<T>>; MAX_LANES], [Option<Hit<T>>; MAX_LANES]) {
+    const F32: &str = "packets trace f32 scenes only";
+    let scene = (scene as &dyn Any).downcast_ref::<Scene<f32>>().expect(F32);
+    let cam = (cam as &dyn Any).downcast_ref::<Camera<f32>>().expect(F32);
+    let rays = block_rays(cam, grid, block_shape(isa), size, block);
+    let hits = trace_block(&scene.geometry, isa, &rays);
+    (same_type(rays).expect(F32), same_type(hits).expect(F32))
+}
+
+/// The eye rays through the pixel centres of an image, gathered into packets once, and
+/// their closest hits, for measuring packet tracing (`tracer bench`) and comparing it
+/// with single rays.
+pub struct EyePackets {
+    isa: Isa,
+    rays: Vec<[Option<Ray<f32>>; MAX_LANES]>,
+    hits: EyeHits<f32>,
+}
+
+impl EyePackets {
+    /// The packets of `isa` for the image of `cam` (no hits yet).
+    ///
+    /// # Panics
+    /// If the CPU lacks `isa` (checked when casting).
+    pub fn new(cam: &Camera<f32>, isa: Isa) -> Self {
+        let (w, h) = (cam.width as usize, cam.height as usize);
+        let (bw, bh) = block_shape(isa);
+        let (nbx, nby) = (w.div_ceil(bw), h.div_ceil(bh));
+        let rays = (0..nbx * nby)
+            .map(|k| block_rays(cam, EyeGrid::Centers, (bw, bh), (w, h), (k % nbx, k / nbx)))
+            .collect();
+        Self {
+            isa,
+            rays,
+            hits: EyeHits {
+                blocks: vec![[None; MAX_LANES]; nbx * nby],
+                bw,
+                bh,
+                nbx,
+            },
+        }
+    }
+
+    /// Number of rays (pixels).
+    pub fn len(&self) -> usize {
+        self.rays.iter().flatten().flatten().count()
+    }
+
+    /// Are there no rays?
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Traces every packet against `scene` on the current rayon pool.
+    pub fn cast(&mut self, scene: &Scene<f32>) {
+        use rayon::prelude::*;
+        let isa = self.isa;
+        self.hits
+            .blocks
+            .par_iter_mut()
+            .zip(self.rays.par_iter())
+            .with_min_len(16)
+            .for_each(|(b, rays)| *b = trace_block(&scene.geometry, isa, rays));
+    }
+
+    /// The hit of the eye ray of pixel `(x, y)` from the last [`EyePackets::cast`].
+    pub fn get(&self, x: usize, y: usize) -> Option<&Hit<f32>> {
+        self.hits.get(x, y)
+    }
+}

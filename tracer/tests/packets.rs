@@ -1,0 +1,169 @@
+//! Eye rays traced in SIMD packets give the single-ray hits bit for bit, so images are
+//! identical with packets on or off and for every instruction set the CPU has.
+#![cfg(target_arch = "x86_64")]
+
+use std::path::Path;
+use tracer::geometry::{AccelOptions, TriangleTest};
+use tracer::packet::{EyePackets, Packets};
+use tracer::render::{render_with_stats, Settings};
+use tracer::{Hit, Ray, Scene};
+use vecexpr::simd::Isa;
+
+/// Every scene shipped in `tracer/scenes`.
+fn shipped() -> Vec<String> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    let mut names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".nff"))
+        .collect();
+    names.sort();
+    assert!(names.len() >= 10, "{names:?}");
+    names
+}
+
+fn scene(name: &str, accel: &AccelOptions) -> Scene<f32> {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenes")
+        .join(name);
+    Scene::from_desc(&tracer::scene::load(&path).unwrap(), accel)
+}
+
+fn bits(v: &vecexpr::Vec3<f32>) -> [u32; 3] {
+    [v[0].to_bits(), v[1].to_bits(), v[2].to_bits()]
+}
+
+fn same_hit(a: Option<&Hit<f32>>, b: Option<&Hit<f32>>) -> bool {
+    match (a, b) {
+        (None, None) => true,
+        (Some(a), Some(b)) => {
+            a.t.to_bits() == b.t.to_bits()
+                && bits(&a.point) == bits(&b.point)
+                && bits(&a.geometric_normal) == bits(&b.geometric_normal)
+                && bits(&a.shading_normal) == bits(&b.shading_normal)
+                && a.prim_id == b.prim_id
+                && a.material == b.material
+        }
+        _ => false,
+    }
+}
+
+#[test]
+fn packet_hits_are_the_single_ray_hits() {
+    for name in shipped() {
+        let s = scene(&name, &AccelOptions::default());
+        // An odd size, so edge blocks are partly empty.
+        let cam = s.camera_for(45, 31);
+        for isa in Isa::available() {
+            let mut p = EyePackets::new(&cam, isa);
+            assert_eq!(p.len(), 45 * 31);
+            p.cast(&s);
+            let mut hits = 0;
+            for y in 0..31 {
+                for x in 0..45 {
+                    let (px, py) = (x as f32 + 0.5, y as f32 + 0.5);
+                    let single = s.intersect(&Ray::new(cam.position, cam.direction(px, py)));
+                    assert!(
+                        same_hit(p.get(x, y), single.as_ref()),
+                        "{name} {isa} pixel ({x}, {y}): {:?} vs {single:?}",
+                        p.get(x, y)
+                    );
+                    hits += usize::from(single.is_some());
+                }
+            }
+            assert!(hits > 0, "{name}: nothing hit");
+        }
+    }
+}
+
+#[test]
+fn images_are_identical_with_packets_on_or_off_and_across_isas() {
+    for name in shipped() {
+        let s = scene(&name, &AccelOptions::default());
+        for spd in [false, true] {
+            let off = Settings {
+                width: Some(37),
+                height: Some(29),
+                spd,
+                packets: Packets::Off,
+                ..Settings::default()
+            };
+            let (reference, rc) = render_with_stats(&s, &off);
+            for isa in Isa::available() {
+                let on = Settings {
+                    packets: Packets::On(isa),
+                    ..off.clone()
+                };
+                let (img, st) = render_with_stats(&s, &on);
+                assert!(img == reference, "{name} spd={spd} {isa}: image differs");
+                assert_eq!(
+                    st.rays, rc.rays,
+                    "{name} spd={spd} {isa}: ray counts differ"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn fallbacks_give_the_same_image() {
+    // Möller–Trumbore triangles and brute force trace each ray of a packet alone; the
+    // binary tree is what packets walk, the four-wide one what single rays walk.
+    for accel in [
+        AccelOptions {
+            triangle: TriangleTest::MollerTrumbore,
+            ..AccelOptions::default()
+        },
+        AccelOptions {
+            use_bvh: false,
+            ..AccelOptions::default()
+        },
+        AccelOptions {
+            wide: false,
+            ..AccelOptions::default()
+        },
+    ] {
+        let s = scene("showcase.nff", &accel);
+        let off = Settings {
+            width: Some(24),
+            height: Some(20),
+            packets: Packets::Off,
+            ..Settings::default()
+        };
+        let reference = render_with_stats(&s, &off).0;
+        for isa in Isa::available() {
+            let on = Settings {
+                packets: Packets::On(isa),
+                ..off.clone()
+            };
+            assert!(render_with_stats(&s, &on).0 == reference, "{accel:?} {isa}");
+        }
+    }
+}
+
+#[test]
+fn isa_arguments() {
+    assert_eq!(Packets::from_args("off", "auto"), Ok(Packets::Off));
+    assert_eq!(Packets::from_args("on", "sse2"), Ok(Packets::On(Isa::Sse2)));
+    assert_eq!(
+        Packets::from_args("on", "auto"),
+        Ok(Packets::On(Isa::detect().unwrap()))
+    );
+    assert_eq!(Packets::from_args("auto", "auto"), Ok(Packets::auto()));
+    assert_eq!(
+        Packets::from_args("auto", "sse2"),
+        Ok(Packets::On(Isa::Sse2))
+    );
+    assert!(Packets::auto() == Packets::Off || Packets::auto().isa() >= Some(Isa::Avx2));
+    assert!(Packets::from_args("on", "avx").is_err());
+    assert!(Packets::from_args("maybe", "auto").is_err());
+    for isa in Isa::ALL {
+        let r = Packets::from_args("on", isa.name());
+        if isa.is_available() {
+            assert_eq!(r, Ok(Packets::On(isa)));
+        } else {
+            let e = r.unwrap_err();
+            assert!(e.contains("does not support"), "{e}");
+        }
+    }
+}

@@ -1,0 +1,233 @@
+//! Eight `f32` lanes in one AVX register (`__m256`), for CPUs with AVX2 and FMA.
+
+use super::{Isa, SimdF32, SimdMask};
+use crate::scalar::{Mask, Scalar};
+use core::arch::x86_64::*;
+
+/// Eight `f32` lanes in an AVX register.
+///
+/// Create values only on a CPU with AVX2 and FMA (inside [`Isa::dispatch`] with
+/// [`Isa::Avx2`], or after checking [`Isa::is_available`]); constructors check it in
+/// builds with debug assertions.
+#[derive(Clone, Copy)]
+#[repr(transparent)]
+pub struct F32x8(pub __m256);
+
+/// The comparison result of [`F32x8`]: each lane all ones (true) or all zeros.
+#[derive(Clone, Copy)]
+#[repr(transparent)]
+pub struct M32x8(pub __m256);
+
+// SAFETY (for every intrinsic call in this file): a value of `F32x8` or `M32x8` exists
+// only on a CPU with AVX2 and FMA (the contract of the type, checked by `check` in the
+// constructors in debug builds), and every intrinsic below needs at most AVX, AVX2 or FMA.
+
+#[inline(always)]
+fn check() {
+    debug_assert!(Isa::Avx2.is_available(), "F32x8 needs AVX2 and FMA");
+}
+
+impl F32x8 {
+    /// The lanes as an array.
+    #[inline(always)]
+    pub fn to_array(self) -> [f32; 8] {
+        let mut out = [0.0f32; 8];
+        // SAFETY: AVX (type contract); `out` has room for eight unaligned floats.
+        unsafe { _mm256_storeu_ps(out.as_mut_ptr(), self.0) };
+        out
+    }
+
+    /// From an array of lanes.
+    #[inline(always)]
+    pub fn from_array(a: [f32; 8]) -> Self {
+        check();
+        // SAFETY: AVX (checked in debug builds, the caller's contract); `a` holds eight
+        // floats.
+        Self(unsafe { _mm256_loadu_ps(a.as_ptr()) })
+    }
+
+    #[inline(always)]
+    fn add_(self, rhs: Self) -> Self {
+        // SAFETY: AVX (type contract).
+        Self(unsafe { _mm256_add_ps(self.0, rhs.0) })
+    }
+    #[inline(always)]
+    fn sub_(self, rhs: Self) -> Self {
+        // SAFETY: AVX (type contract).
+        Self(unsafe { _mm256_sub_ps(self.0, rhs.0) })
+    }
+    #[inline(always)]
+    fn mul_(self, rhs: Self) -> Self {
+        // SAFETY: AVX (type contract).
+        Self(unsafe { _mm256_mul_ps(self.0, rhs.0) })
+    }
+    #[inline(always)]
+    fn div_(self, rhs: Self) -> Self {
+        // SAFETY: AVX (type contract).
+        Self(unsafe { _mm256_div_ps(self.0, rhs.0) })
+    }
+    #[inline(always)]
+    fn neg_(self) -> Self {
+        // SAFETY: AVX (type contract).
+        Self(unsafe { _mm256_xor_ps(self.0, _mm256_set1_ps(-0.0)) })
+    }
+}
+
+lane_boilerplate!(F32x8, M32x8, 8);
+
+impl Mask for M32x8 {
+    const LANES: usize = 8;
+    #[inline(always)]
+    fn splat_bool(b: bool) -> Self {
+        check();
+        let bits = if b { u32::MAX } else { 0 };
+        // SAFETY: AVX (checked in debug builds, the caller's contract).
+        Self(unsafe { _mm256_castsi256_ps(_mm256_set1_epi32(bits as i32)) })
+    }
+    #[inline(always)]
+    fn and(self, rhs: Self) -> Self {
+        // SAFETY: AVX (type contract).
+        Self(unsafe { _mm256_and_ps(self.0, rhs.0) })
+    }
+    #[inline(always)]
+    fn or(self, rhs: Self) -> Self {
+        // SAFETY: AVX (type contract).
+        Self(unsafe { _mm256_or_ps(self.0, rhs.0) })
+    }
+    #[inline(always)]
+    fn not(self) -> Self {
+        // SAFETY: AVX (type contract).
+        Self(unsafe { _mm256_xor_ps(self.0, Self::splat_bool(true).0) })
+    }
+    #[inline(always)]
+    fn all(self) -> bool {
+        self.bitmask() == 0xff
+    }
+    #[inline(always)]
+    fn any(self) -> bool {
+        self.bitmask() != 0
+    }
+    #[inline(always)]
+    fn test(self, i: usize) -> bool {
+        assert!(i < 8, "lane {i} out of range for 8 lanes");
+        self.bitmask() >> i & 1 != 0
+    }
+}
+
+impl SimdMask for M32x8 {
+    #[inline(always)]
+    fn bitmask(self) -> u32 {
+        // SAFETY: AVX (type contract).
+        unsafe { _mm256_movemask_ps(self.0) as u32 }
+    }
+    #[inline(always)]
+    fn from_bitmask(bits: u32) -> Self {
+        check();
+        // SAFETY: AVX2 (checked in debug builds, the caller's contract). Lane i keeps
+        // bit i, then compares equal to it.
+        unsafe {
+            let lanes = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+            let b = _mm256_and_si256(_mm256_set1_epi32(bits as i32), lanes);
+            Self(_mm256_castsi256_ps(_mm256_cmpeq_epi32(b, lanes)))
+        }
+    }
+}
+
+impl Scalar for F32x8 {
+    type Elem = f32;
+    type Mask = M32x8;
+    const LANES: usize = 8;
+
+    #[inline(always)]
+    fn splat(x: f32) -> Self {
+        check();
+        // SAFETY: AVX (checked in debug builds, the caller's contract).
+        Self(unsafe { _mm256_set1_ps(x) })
+    }
+    #[inline(always)]
+    fn min(self, rhs: Self) -> Self {
+        // vminps returns the second operand unless the first is smaller: the NaN rule of
+        // `Scalar::min`.
+        // SAFETY: AVX (type contract).
+        Self(unsafe { _mm256_min_ps(self.0, rhs.0) })
+    }
+    #[inline(always)]
+    fn max(self, rhs: Self) -> Self {
+        // SAFETY: AVX (type contract).
+        Self(unsafe { _mm256_max_ps(self.0, rhs.0) })
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        // SAFETY: AVX (type contract).
+        Self(unsafe { _mm256_andnot_ps(_mm256_set1_ps(-0.0), self.0) })
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        // SAFETY: AVX (type contract).
+        Self(unsafe { _mm256_sqrt_ps(self.0) })
+    }
+    #[inline(always)]
+    fn mul_add(self, a: Self, b: Self) -> Self {
+        // SAFETY: FMA (type contract).
+        Self(unsafe { _mm256_fmadd_ps(self.0, a.0, b.0) })
+    }
+    #[inline(always)]
+    fn lt(self, rhs: Self) -> M32x8 {
+        // SAFETY: AVX (type contract).
+        M32x8(unsafe { _mm256_cmp_ps::<_CMP_LT_OQ>(self.0, rhs.0) })
+    }
+    #[inline(always)]
+    fn le(self, rhs: Self) -> M32x8 {
+        // SAFETY: AVX (type contract).
+        M32x8(unsafe { _mm256_cmp_ps::<_CMP_LE_OQ>(self.0, rhs.0) })
+    }
+    #[inline(always)]
+    fn eq_mask(self, rhs: Self) -> M32x8 {
+        // SAFETY: AVX (type contract).
+        M32x8(unsafe { _mm256_cmp_ps::<_CMP_EQ_OQ>(self.0, rhs.0) })
+    }
+    #[inline(always)]
+    fn select(mask: M32x8, a: Self, b: Self) -> Self {
+        // blendv takes the second operand where the mask's sign bit is set.
+        // SAFETY: AVX (type contract).
+        Self(unsafe { _mm256_blendv_ps(b.0, a.0, mask.0) })
+    }
+    #[inline(always)]
+    fn lane(self, i: usize) -> f32 {
+        self.to_array()[i]
+    }
+    #[inline(always)]
+    fn is_finite_mask(self) -> M32x8 {
+        // |x| < inf is false for infinities and NaN.
+        self.abs().lt(Self::splat(f32::INFINITY))
+    }
+}
+
+impl SimdF32 for F32x8 {
+    const ISA: Isa = Isa::Avx2;
+    #[inline(always)]
+    fn load(s: &[f32]) -> Self {
+        check();
+        let s = &s[..8];
+        // SAFETY: AVX (checked in debug builds, the caller's contract); `s` holds eight
+        // floats.
+        Self(unsafe { _mm256_loadu_ps(s.as_ptr()) })
+    }
+    #[inline(always)]
+    fn store(self, out: &mut [f32]) {
+        let out = &mut out[..8];
+        // SAFETY: AVX (type contract); `out` has room for eight floats.
+        unsafe { _mm256_storeu_ps(out.as_mut_ptr(), self.0) }
+    }
+    #[inline(always)]
+    fn copysign(self, sign: Self) -> Self {
+        // SAFETY: AVX (type contract). (|self|) | (sign & -0.0).
+        unsafe {
+            let s = _mm256_set1_ps(-0.0);
+            Self(_mm256_or_ps(
+                _mm256_andnot_ps(s, self.0),
+                _mm256_and_ps(s, sign.0),
+            ))
+        }
+    }
+}

@@ -1,0 +1,226 @@
+//! Sixteen `f32` lanes in one AVX-512 register (`__m512`) with `__mmask16` masks, for
+//! CPUs with AVX-512F (only AVX-512F instructions are used).
+
+use super::{Isa, SimdF32, SimdMask};
+use crate::scalar::{Mask, Scalar};
+use core::arch::x86_64::*;
+
+/// Sixteen `f32` lanes in an AVX-512 register.
+///
+/// Create values only on a CPU with AVX-512F (inside [`Isa::dispatch`] with
+/// [`Isa::Avx512`], or after checking [`Isa::is_available`]); constructors check it in
+/// builds with debug assertions.
+#[derive(Clone, Copy)]
+#[repr(transparent)]
+pub struct F32x16(pub __m512);
+
+/// The comparison result of [`F32x16`]: an AVX-512 mask register, bit `i` for lane `i`.
+#[derive(Clone, Copy)]
+#[repr(transparent)]
+pub struct M32x16(pub __mmask16);
+
+// SAFETY (for every intrinsic call in this file): a value of `F32x16` exists only on a CPU
+// with AVX-512F (the contract of the type, checked by `check` in the constructors in
+// debug builds), and every intrinsic below needs only AVX-512F. (`M32x16` is a plain
+// 16-bit integer and needs no intrinsics.)
+
+#[inline(always)]
+fn check() {
+    debug_assert!(Isa::Avx512.is_available(), "F32x16 needs AVX-512F");
+}
+
+impl F32x16 {
+    /// The lanes as an array.
+    #[inline(always)]
+    pub fn to_array(self) -> [f32; 16] {
+        let mut out = [0.0f32; 16];
+        // SAFETY: AVX-512F (type contract); `out` has room for sixteen unaligned floats.
+        unsafe { _mm512_storeu_ps(out.as_mut_ptr(), self.0) };
+        out
+    }
+
+    /// From an array of lanes.
+    #[inline(always)]
+    pub fn from_array(a: [f32; 16]) -> Self {
+        check();
+        // SAFETY: AVX-512F (checked in debug builds, the caller's contract); `a` holds
+        // sixteen floats.
+        Self(unsafe { _mm512_loadu_ps(a.as_ptr()) })
+    }
+
+    #[inline(always)]
+    fn bits(self, f: impl Fn(__m512i) -> __m512i) -> Self {
+        // SAFETY: AVX-512F (type contract); the casts only reinterpret the register.
+        Self(unsafe { _mm512_castsi512_ps(f(_mm512_castps_si512(self.0))) })
+    }
+
+    #[inline(always)]
+    fn add_(self, rhs: Self) -> Self {
+        // SAFETY: AVX-512F (type contract).
+        Self(unsafe { _mm512_add_ps(self.0, rhs.0) })
+    }
+    #[inline(always)]
+    fn sub_(self, rhs: Self) -> Self {
+        // SAFETY: AVX-512F (type contract).
+        Self(unsafe { _mm512_sub_ps(self.0, rhs.0) })
+    }
+    #[inline(always)]
+    fn mul_(self, rhs: Self) -> Self {
+        // SAFETY: AVX-512F (type contract).
+        Self(unsafe { _mm512_mul_ps(self.0, rhs.0) })
+    }
+    #[inline(always)]
+    fn div_(self, rhs: Self) -> Self {
+        // SAFETY: AVX-512F (type contract).
+        Self(unsafe { _mm512_div_ps(self.0, rhs.0) })
+    }
+    #[inline(always)]
+    fn neg_(self) -> Self {
+        // SAFETY: AVX-512F (type contract): integer xor with the sign bit.
+        self.bits(|x| unsafe { _mm512_xor_si512(x, _mm512_set1_epi32(i32::MIN)) })
+    }
+}
+
+lane_boilerplate!(F32x16, M32x16, 16);
+
+impl Mask for M32x16 {
+    const LANES: usize = 16;
+    #[inline(always)]
+    fn splat_bool(b: bool) -> Self {
+        Self(if b { u16::MAX } else { 0 })
+    }
+    #[inline(always)]
+    fn and(self, rhs: Self) -> Self {
+        Self(self.0 & rhs.0)
+    }
+    #[inline(always)]
+    fn or(self, rhs: Self) -> Self {
+        Self(self.0 | rhs.0)
+    }
+    #[inline(always)]
+    fn not(self) -> Self {
+        Self(!self.0)
+    }
+    #[inline(always)]
+    fn all(self) -> bool {
+        self.0 == u16::MAX
+    }
+    #[inline(always)]
+    fn any(self) -> bool {
+        self.0 != 0
+    }
+    #[inline(always)]
+    fn test(self, i: usize) -> bool {
+        assert!(i < 16, "lane {i} out of range for 16 lanes");
+        self.0 >> i & 1 != 0
+    }
+}
+
+impl SimdMask for M32x16 {
+    #[inline(always)]
+    fn bitmask(self) -> u32 {
+        u32::from(self.0)
+    }
+    #[inline(always)]
+    fn from_bitmask(bits: u32) -> Self {
+        Self(bits as u16)
+    }
+}
+
+impl Scalar for F32x16 {
+    type Elem = f32;
+    type Mask = M32x16;
+    const LANES: usize = 16;
+
+    #[inline(always)]
+    fn splat(x: f32) -> Self {
+        check();
+        // SAFETY: AVX-512F (checked in debug builds, the caller's contract).
+        Self(unsafe { _mm512_set1_ps(x) })
+    }
+    #[inline(always)]
+    fn min(self, rhs: Self) -> Self {
+        // vminps returns the second operand unless the first is smaller: the NaN rule of
+        // `Scalar::min`.
+        // SAFETY: AVX-512F (type contract).
+        Self(unsafe { _mm512_min_ps(self.0, rhs.0) })
+    }
+    #[inline(always)]
+    fn max(self, rhs: Self) -> Self {
+        // SAFETY: AVX-512F (type contract).
+        Self(unsafe { _mm512_max_ps(self.0, rhs.0) })
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        // SAFETY: AVX-512F (type contract): integer and with the magnitude bits.
+        self.bits(|x| unsafe { _mm512_and_si512(x, _mm512_set1_epi32(i32::MAX)) })
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        // SAFETY: AVX-512F (type contract).
+        Self(unsafe { _mm512_sqrt_ps(self.0) })
+    }
+    #[inline(always)]
+    fn mul_add(self, a: Self, b: Self) -> Self {
+        // SAFETY: AVX-512F (type contract).
+        Self(unsafe { _mm512_fmadd_ps(self.0, a.0, b.0) })
+    }
+    #[inline(always)]
+    fn lt(self, rhs: Self) -> M32x16 {
+        // SAFETY: AVX-512F (type contract).
+        M32x16(unsafe { _mm512_cmp_ps_mask::<_CMP_LT_OQ>(self.0, rhs.0) })
+    }
+    #[inline(always)]
+    fn le(self, rhs: Self) -> M32x16 {
+        // SAFETY: AVX-512F (type contract).
+        M32x16(unsafe { _mm512_cmp_ps_mask::<_CMP_LE_OQ>(self.0, rhs.0) })
+    }
+    #[inline(always)]
+    fn eq_mask(self, rhs: Self) -> M32x16 {
+        // SAFETY: AVX-512F (type contract).
+        M32x16(unsafe { _mm512_cmp_ps_mask::<_CMP_EQ_OQ>(self.0, rhs.0) })
+    }
+    #[inline(always)]
+    fn select(mask: M32x16, a: Self, b: Self) -> Self {
+        // mask_blend takes the second operand where the mask bit is set.
+        // SAFETY: AVX-512F (type contract of `a`).
+        Self(unsafe { _mm512_mask_blend_ps(mask.0, b.0, a.0) })
+    }
+    #[inline(always)]
+    fn lane(self, i: usize) -> f32 {
+        self.to_array()[i]
+    }
+    #[inline(always)]
+    fn is_finite_mask(self) -> M32x16 {
+        // |x| < inf is false for infinities and NaN.
+        self.abs().lt(Self::splat(f32::INFINITY))
+    }
+}
+
+impl SimdF32 for F32x16 {
+    const ISA: Isa = Isa::Avx512;
+    #[inline(always)]
+    fn load(s: &[f32]) -> Self {
+        check();
+        let s = &s[..16];
+        // SAFETY: AVX-512F (checked in debug builds, the caller's contract); `s` holds
+        // sixteen floats.
+        Self(unsafe { _mm512_loadu_ps(s.as_ptr()) })
+    }
+    #[inline(always)]
+    fn store(self, out: &mut [f32]) {
+        let out = &mut out[..16];
+        // SAFETY: AVX-512F (type contract); `out` has room for sixteen floats.
+        unsafe { _mm512_storeu_ps(out.as_mut_ptr(), self.0) }
+    }
+    #[inline(always)]
+    fn copysign(self, sign: Self) -> Self {
+        // SAFETY: AVX-512F (type contract). (|self|) | (sign & -0.0), in integer lanes.
+        unsafe {
+            let s = _mm512_set1_epi32(i32::MIN);
+            let mag = _mm512_andnot_si512(s, _mm512_castps_si512(self.0));
+            let sgn = _mm512_and_si512(s, _mm512_castps_si512(sign.0));
+            Self(_mm512_castsi512_ps(_mm512_or_si512(mag, sgn)))
+        }
+    }
+}

@@ -1,0 +1,307 @@
+//! Explicit SIMD lane types and run-time instruction-set dispatch (x86-64).
+//!
+//! This is the only module of the workspace that uses `core::arch` intrinsics. It
+//! provides three [`Scalar`]s of `f32` lanes, each one machine register wide:
+//!
+//! | type | lanes | register | mask | instruction set |
+//! |---|---|---|---|---|
+//! | [`F32x4`] | 4 | `__m128` | [`M32x4`] (`__m128`, all-ones lanes) | SSE2 |
+//! | [`F32x8`] | 8 | `__m256` | [`M32x8`] (`__m256`, all-ones lanes) | AVX2 + FMA |
+//! | [`F32x16`] | 16 | `__m512` | [`M32x16`] (`__mmask16`, one bit a lane) | AVX-512F |
+//!
+//! `Vector<F32x8, U3>` is then an SoA packet of eight 3-vectors, and every generic
+//! vecexpr expression (dot, cross, `+`, `*`, select, ...) runs on it unchanged, one
+//! instruction per component and operation. Each operation computes exactly what the
+//! scalar `f32` operation computes lane by lane (IEEE single precision, correctly
+//! rounded `+ - * / sqrt`, no contraction into FMA): `min`/`max` are `minps`/`maxps`,
+//! which implement the `if a < b { a } else { b }` rule of [`Scalar::min`] (NaN gives
+//! the second operand). Only [`Scalar::mul_add`] fuses, as it does for `f32`.
+//!
+//! # Dispatch
+//! [`Isa::detect`] finds the widest instruction set of the running CPU;
+//! [`Isa::dispatch`] runs a [`Kernel`] — code generic over [`SimdF32`] — instantiated
+//! with the matching lane type inside a function compiled with
+//! `#[target_feature(enable = ...)]`. As long as the kernel's code is `#[inline(always)]`
+//! down to the lane operations (all of which are), the whole kernel is compiled for that
+//! instruction set, so one binary carries all three.
+//!
+//! # Safety contract
+//! The AVX2 and AVX-512 lane types must only be created on a CPU that has those
+//! instructions: that is what [`Isa::dispatch`] guarantees for the kernel it runs, and
+//! every constructor checks it in builds with debug assertions. (SSE2 is part of x86-64.)
+//!
+//! On other targets the lane types and `dispatch` do not exist; [`Isa::available`] is
+//! empty and [`Isa::detect`] returns `None`.
+
+use crate::scalar::{Mask, Scalar};
+use core::fmt;
+
+/// Operator and formatting boilerplate of a lane type with inherent `add_`, `sub_`,
+/// `mul_`, `div_`, `neg_` and `to_array` methods.
+#[cfg(target_arch = "x86_64")]
+macro_rules! lane_boilerplate {
+    ($t:ident, $m:ident, $n:expr) => {
+        impl core::ops::Add for $t {
+            type Output = Self;
+            #[inline(always)]
+            fn add(self, rhs: Self) -> Self {
+                self.add_(rhs)
+            }
+        }
+        impl core::ops::Sub for $t {
+            type Output = Self;
+            #[inline(always)]
+            fn sub(self, rhs: Self) -> Self {
+                self.sub_(rhs)
+            }
+        }
+        impl core::ops::Mul for $t {
+            type Output = Self;
+            #[inline(always)]
+            fn mul(self, rhs: Self) -> Self {
+                self.mul_(rhs)
+            }
+        }
+        impl core::ops::Div for $t {
+            type Output = Self;
+            #[inline(always)]
+            fn div(self, rhs: Self) -> Self {
+                self.div_(rhs)
+            }
+        }
+        impl core::ops::Neg for $t {
+            type Output = Self;
+            #[inline(always)]
+            fn neg(self) -> Self {
+                self.neg_()
+            }
+        }
+        impl core::ops::AddAssign for $t {
+            #[inline(always)]
+            fn add_assign(&mut self, rhs: Self) {
+                *self = self.add_(rhs);
+            }
+        }
+        impl core::ops::SubAssign for $t {
+            #[inline(always)]
+            fn sub_assign(&mut self, rhs: Self) {
+                *self = self.sub_(rhs);
+            }
+        }
+        impl core::ops::MulAssign for $t {
+            #[inline(always)]
+            fn mul_assign(&mut self, rhs: Self) {
+                *self = self.mul_(rhs);
+            }
+        }
+        impl core::ops::DivAssign for $t {
+            #[inline(always)]
+            fn div_assign(&mut self, rhs: Self) {
+                *self = self.div_(rhs);
+            }
+        }
+        impl Default for $t {
+            /// Zero in every lane.
+            #[inline(always)]
+            fn default() -> Self {
+                <Self as crate::Scalar>::splat(0.0)
+            }
+        }
+        /// Lane-wise IEEE equality of all lanes (a NaN lane makes packets unequal).
+        impl PartialEq for $t {
+            fn eq(&self, other: &Self) -> bool {
+                self.to_array() == other.to_array()
+            }
+        }
+        impl core::fmt::Debug for $t {
+            fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+                f.debug_list().entries(self.to_array().iter()).finish()
+            }
+        }
+        impl PartialEq for $m {
+            fn eq(&self, other: &Self) -> bool {
+                crate::simd::SimdMask::bitmask(*self) == crate::simd::SimdMask::bitmask(*other)
+            }
+        }
+        impl core::fmt::Debug for $m {
+            fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+                let b = crate::simd::SimdMask::bitmask(*self);
+                f.debug_list()
+                    .entries((0..$n).map(|i| b >> i & 1 != 0))
+                    .finish()
+            }
+        }
+    };
+}
+
+#[cfg(target_arch = "x86_64")]
+mod avx2;
+#[cfg(target_arch = "x86_64")]
+mod avx512;
+#[cfg(target_arch = "x86_64")]
+mod sse2;
+#[cfg(all(test, target_arch = "x86_64"))]
+mod tests;
+
+#[cfg(target_arch = "x86_64")]
+pub use avx2::{F32x8, M32x8};
+#[cfg(target_arch = "x86_64")]
+pub use avx512::{F32x16, M32x16};
+#[cfg(target_arch = "x86_64")]
+pub use sse2::{F32x4, M32x4};
+
+/// An x86-64 instruction set the lane types are compiled for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Isa {
+    /// SSE2, 4 lanes ([`F32x4`]): every x86-64 CPU.
+    Sse2,
+    /// AVX2 and FMA, 8 lanes ([`F32x8`]).
+    Avx2,
+    /// AVX-512F, 16 lanes ([`F32x16`]).
+    Avx512,
+}
+
+impl Isa {
+    /// All instruction sets, narrowest first.
+    pub const ALL: [Isa; 3] = [Isa::Sse2, Isa::Avx2, Isa::Avx512];
+
+    /// Lanes of its `f32` type.
+    pub const fn lanes(self) -> usize {
+        match self {
+            Isa::Sse2 => 4,
+            Isa::Avx2 => 8,
+            Isa::Avx512 => 16,
+        }
+    }
+
+    /// The lower-case name (`sse2`, `avx2`, `avx512`), as the command line spells it.
+    pub const fn name(self) -> &'static str {
+        match self {
+            Isa::Sse2 => "sse2",
+            Isa::Avx2 => "avx2",
+            Isa::Avx512 => "avx512",
+        }
+    }
+
+    /// Parses [`Isa::name`].
+    pub fn from_name(s: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|i| i.name() == s)
+    }
+
+    /// Does the running CPU have this instruction set? (Cached by the standard library
+    /// after the first query.)
+    #[inline]
+    pub fn is_available(self) -> bool {
+        #[cfg(target_arch = "x86_64")]
+        {
+            match self {
+                Isa::Sse2 => true,
+                Isa::Avx2 => {
+                    std::arch::is_x86_feature_detected!("avx2")
+                        && std::arch::is_x86_feature_detected!("fma")
+                }
+                Isa::Avx512 => std::arch::is_x86_feature_detected!("avx512f"),
+            }
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        {
+            let _ = self;
+            false
+        }
+    }
+
+    /// The instruction sets of the running CPU, narrowest first.
+    pub fn available() -> Vec<Isa> {
+        Self::ALL.into_iter().filter(|i| i.is_available()).collect()
+    }
+
+    /// The widest instruction set of the running CPU (`None` off x86-64).
+    pub fn detect() -> Option<Isa> {
+        Self::available().last().copied()
+    }
+
+    /// Runs `kernel` with the lane type of this instruction set, compiled for it.
+    ///
+    /// # Panics
+    /// If the running CPU lacks the instruction set ([`Isa::is_available`]).
+    #[cfg(target_arch = "x86_64")]
+    #[inline]
+    pub fn dispatch<K: Kernel>(self, kernel: K) -> K::Output {
+        assert!(
+            self.is_available(),
+            "this CPU does not support {}",
+            self.name()
+        );
+        match self {
+            Isa::Sse2 => entry_sse2(kernel),
+            // SAFETY: `is_available` just confirmed AVX2 and FMA.
+            Isa::Avx2 => unsafe { entry_avx2(kernel) },
+            // SAFETY: `is_available` just confirmed AVX-512F.
+            Isa::Avx512 => unsafe { entry_avx512(kernel) },
+        }
+    }
+}
+
+impl fmt::Display for Isa {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Code generic over the lane type, run by [`Isa::dispatch`].
+///
+/// Mark `run` (and everything it calls that should be compiled for the instruction set)
+/// `#[inline(always)]`: only inlined code inherits the entry point's target features.
+pub trait Kernel {
+    /// What the kernel returns.
+    type Output;
+    /// The kernel instantiated for the lane type `S`.
+    fn run<S: SimdF32>(self) -> Self::Output;
+}
+
+#[cfg(target_arch = "x86_64")]
+#[inline(never)]
+fn entry_sse2<K: Kernel>(kernel: K) -> K::Output {
+    kernel.run::<F32x4>()
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+#[inline(never)]
+unsafe fn entry_avx2<K: Kernel>(kernel: K) -> K::Output {
+    kernel.run::<F32x8>()
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx2,fma")]
+#[inline(never)]
+unsafe fn entry_avx512<K: Kernel>(kernel: K) -> K::Output {
+    kernel.run::<F32x16>()
+}
+
+/// An explicit SIMD register of `f32` lanes: a [`Scalar`] with loads, stores and the
+/// few operations the generic trait lacks.
+pub trait SimdF32: Scalar<Elem = f32, Mask: SimdMask> {
+    /// The instruction set the type is compiled for.
+    const ISA: Isa;
+    /// Loads lanes `0..LANES` from `s`.
+    ///
+    /// # Panics
+    /// If `s` is shorter than `LANES`.
+    fn load(s: &[f32]) -> Self;
+    /// Stores the lanes into `out[0..LANES]`.
+    ///
+    /// # Panics
+    /// If `out` is shorter than `LANES`.
+    fn store(self, out: &mut [f32]);
+    /// Lane-wise: the magnitude of `self` with the sign bit of `sign` (as `f32::copysign`).
+    fn copysign(self, sign: Self) -> Self;
+}
+
+/// A lane mask of a [`SimdF32`] type, convertible to and from a bit mask.
+pub trait SimdMask: Mask {
+    /// Bit `i` set for each true lane `i`.
+    fn bitmask(self) -> u32;
+    /// The mask whose lane `i` is bit `i` of `bits` (higher bits ignored).
+    fn from_bitmask(bits: u32) -> Self;
+}

@@ -1,0 +1,212 @@
+//! Four `f32` lanes in one SSE register (`__m128`); SSE2 is part of every x86-64 CPU.
+
+use super::{Isa, SimdF32, SimdMask};
+use crate::scalar::{Mask, Scalar};
+use core::arch::x86_64::*;
+
+/// Four `f32` lanes in an SSE register.
+#[derive(Clone, Copy)]
+#[repr(transparent)]
+pub struct F32x4(pub __m128);
+
+/// The comparison result of [`F32x4`]: each lane all ones (true) or all zeros.
+#[derive(Clone, Copy)]
+#[repr(transparent)]
+pub struct M32x4(pub __m128);
+
+// SAFETY (for every intrinsic call in this file): the intrinsics need SSE or SSE2, which
+// every x86-64 CPU has (they are in the target's baseline features).
+
+impl F32x4 {
+    /// The lanes as an array.
+    #[inline(always)]
+    pub fn to_array(self) -> [f32; 4] {
+        let mut out = [0.0f32; 4];
+        // SAFETY: SSE baseline; `out` has room for four unaligned floats.
+        unsafe { _mm_storeu_ps(out.as_mut_ptr(), self.0) };
+        out
+    }
+
+    /// From an array of lanes.
+    #[inline(always)]
+    pub fn from_array(a: [f32; 4]) -> Self {
+        // SAFETY: SSE baseline; `a` holds four floats.
+        Self(unsafe { _mm_loadu_ps(a.as_ptr()) })
+    }
+
+    #[inline(always)]
+    fn add_(self, rhs: Self) -> Self {
+        // SAFETY: SSE baseline.
+        Self(unsafe { _mm_add_ps(self.0, rhs.0) })
+    }
+    #[inline(always)]
+    fn sub_(self, rhs: Self) -> Self {
+        // SAFETY: SSE baseline.
+        Self(unsafe { _mm_sub_ps(self.0, rhs.0) })
+    }
+    #[inline(always)]
+    fn mul_(self, rhs: Self) -> Self {
+        // SAFETY: SSE baseline.
+        Self(unsafe { _mm_mul_ps(self.0, rhs.0) })
+    }
+    #[inline(always)]
+    fn div_(self, rhs: Self) -> Self {
+        // SAFETY: SSE baseline.
+        Self(unsafe { _mm_div_ps(self.0, rhs.0) })
+    }
+    #[inline(always)]
+    fn neg_(self) -> Self {
+        // SAFETY: SSE baseline.
+        Self(unsafe { _mm_xor_ps(self.0, _mm_set1_ps(-0.0)) })
+    }
+}
+
+lane_boilerplate!(F32x4, M32x4, 4);
+
+impl Mask for M32x4 {
+    const LANES: usize = 4;
+    #[inline(always)]
+    fn splat_bool(b: bool) -> Self {
+        let bits = if b { u32::MAX } else { 0 };
+        // SAFETY: SSE baseline.
+        Self(unsafe { _mm_castsi128_ps(_mm_set1_epi32(bits as i32)) })
+    }
+    #[inline(always)]
+    fn and(self, rhs: Self) -> Self {
+        // SAFETY: SSE baseline.
+        Self(unsafe { _mm_and_ps(self.0, rhs.0) })
+    }
+    #[inline(always)]
+    fn or(self, rhs: Self) -> Self {
+        // SAFETY: SSE baseline.
+        Self(unsafe { _mm_or_ps(self.0, rhs.0) })
+    }
+    #[inline(always)]
+    fn not(self) -> Self {
+        // SAFETY: SSE baseline.
+        Self(unsafe { _mm_xor_ps(self.0, Self::splat_bool(true).0) })
+    }
+    #[inline(always)]
+    fn all(self) -> bool {
+        self.bitmask() == 0xf
+    }
+    #[inline(always)]
+    fn any(self) -> bool {
+        self.bitmask() != 0
+    }
+    #[inline(always)]
+    fn test(self, i: usize) -> bool {
+        assert!(i < 4, "lane {i} out of range for 4 lanes");
+        self.bitmask() >> i & 1 != 0
+    }
+}
+
+impl SimdMask for M32x4 {
+    #[inline(always)]
+    fn bitmask(self) -> u32 {
+        // SAFETY: SSE baseline.
+        unsafe { _mm_movemask_ps(self.0) as u32 }
+    }
+    #[inline(always)]
+    fn from_bitmask(bits: u32) -> Self {
+        // SAFETY: SSE2 baseline. Lane i keeps bit i, then compares equal to it.
+        unsafe {
+            let lanes = _mm_setr_epi32(1, 2, 4, 8);
+            let b = _mm_and_si128(_mm_set1_epi32(bits as i32), lanes);
+            Self(_mm_castsi128_ps(_mm_cmpeq_epi32(b, lanes)))
+        }
+    }
+}
+
+impl Scalar for F32x4 {
+    type Elem = f32;
+    type Mask = M32x4;
+    const LANES: usize = 4;
+
+    #[inline(always)]
+    fn splat(x: f32) -> Self {
+        // SAFETY: SSE baseline.
+        Self(unsafe { _mm_set1_ps(x) })
+    }
+    #[inline(always)]
+    fn min(self, rhs: Self) -> Self {
+        // minps returns the second operand unless the first is smaller: the NaN rule of
+        // `Scalar::min`.
+        // SAFETY: SSE baseline.
+        Self(unsafe { _mm_min_ps(self.0, rhs.0) })
+    }
+    #[inline(always)]
+    fn max(self, rhs: Self) -> Self {
+        // SAFETY: SSE baseline.
+        Self(unsafe { _mm_max_ps(self.0, rhs.0) })
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        // SAFETY: SSE baseline.
+        Self(unsafe { _mm_andnot_ps(_mm_set1_ps(-0.0), self.0) })
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        // SAFETY: SSE baseline.
+        Self(unsafe { _mm_sqrt_ps(self.0) })
+    }
+    #[inline(always)]
+    fn mul_add(self, a: Self, b: Self) -> Self {
+        // SSE2 has no fused multiply-add: one correctly rounded `f32::mul_add` a lane.
+        let (x, a, b) = (self.to_array(), a.to_array(), b.to_array());
+        Self::from_array(core::array::from_fn(|i| x[i].mul_add(a[i], b[i])))
+    }
+    #[inline(always)]
+    fn lt(self, rhs: Self) -> M32x4 {
+        // SAFETY: SSE baseline.
+        M32x4(unsafe { _mm_cmplt_ps(self.0, rhs.0) })
+    }
+    #[inline(always)]
+    fn le(self, rhs: Self) -> M32x4 {
+        // SAFETY: SSE baseline.
+        M32x4(unsafe { _mm_cmple_ps(self.0, rhs.0) })
+    }
+    #[inline(always)]
+    fn eq_mask(self, rhs: Self) -> M32x4 {
+        // SAFETY: SSE baseline.
+        M32x4(unsafe { _mm_cmpeq_ps(self.0, rhs.0) })
+    }
+    #[inline(always)]
+    fn select(mask: M32x4, a: Self, b: Self) -> Self {
+        // SAFETY: SSE baseline. (a & m) | (b & !m).
+        Self(unsafe { _mm_or_ps(_mm_and_ps(mask.0, a.0), _mm_andnot_ps(mask.0, b.0)) })
+    }
+    #[inline(always)]
+    fn lane(self, i: usize) -> f32 {
+        self.to_array()[i]
+    }
+    #[inline(always)]
+    fn is_finite_mask(self) -> M32x4 {
+        // |x| < inf is false for infinities and NaN.
+        self.abs().lt(Self::splat(f32::INFINITY))
+    }
+}
+
+impl SimdF32 for F32x4 {
+    const ISA: Isa = Isa::Sse2;
+    #[inline(always)]
+    fn load(s: &[f32]) -> Self {
+        let s = &s[..4];
+        // SAFETY: SSE baseline; `s` holds four floats.
+        Self(unsafe { _mm_loadu_ps(s.as_ptr()) })
+    }
+    #[inline(always)]
+    fn store(self, out: &mut [f32]) {
+        let out = &mut out[..4];
+        // SAFETY: SSE baseline; `out` has room for four floats.
+        unsafe { _mm_storeu_ps(out.as_mut_ptr(), self.0) }
+    }
+    #[inline(always)]
+    fn copysign(self, sign: Self) -> Self {
+        // SAFETY: SSE baseline. (|self|) | (sign & -0.0).
+        unsafe {
+            let s = _mm_set1_ps(-0.0);
+            Self(_mm_or_ps(_mm_andnot_ps(s, self.0), _mm_and_ps(s, sign.0)))
+        }
+    }
+}

@@ -1,0 +1,293 @@
+//! Every lane operation against the scalar `f32` result, lane by lane and bit for bit,
+//! for each instruction set the CPU has.
+
+// Tables of (name, result, reference) and lane-indexed comparisons read best as they are.
+#![allow(clippy::type_complexity, clippy::needless_range_loop)]
+
+use super::*;
+use crate::{select, vec3, Expr, Vec3};
+
+/// Awkward values: signed zeros, infinities, NaN, subnormals, extremes, ordinary numbers.
+const SPECIAL: [f32; 16] = [
+    0.0,
+    -0.0,
+    1.0,
+    -1.5,
+    f32::INFINITY,
+    f32::NEG_INFINITY,
+    f32::NAN,
+    1.0e-40,
+    -3.0e38,
+    f32::MAX,
+    f32::MIN_POSITIVE,
+    0.1,
+    7.25,
+    -2.0,
+    1.0e20,
+    -1.0e-20,
+];
+
+/// A deterministic pseudo-random float (xorshift), sometimes a special value.
+fn rnd(state: &mut u32) -> f32 {
+    *state ^= *state << 13;
+    *state ^= *state >> 17;
+    *state ^= *state << 5;
+    match *state % 8 {
+        0 => SPECIAL[(*state >> 8) as usize % SPECIAL.len()],
+        _ => ((*state >> 8) as f32 / (1u32 << 24) as f32 - 0.5) * 200.0,
+    }
+}
+
+/// Same bits, or both NaN (the payload of a NaN result is not specified).
+fn same(a: f32, b: f32) -> bool {
+    a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan())
+}
+
+fn lanes<S: SimdF32>(v: S) -> Vec<f32> {
+    let mut out = vec![0.0; S::LANES];
+    v.store(&mut out);
+    out
+}
+
+fn mask_lanes<M: SimdMask>(m: M) -> Vec<bool> {
+    (0..M::LANES).map(|i| m.test(i)).collect()
+}
+
+struct CheckOps;
+
+impl Kernel for CheckOps {
+    type Output = usize;
+    fn run<S: SimdF32>(self) -> usize {
+        let n = S::LANES;
+        let mut state = 0x1234_5678u32 ^ n as u32;
+        let mut checked = 0;
+        // The special values against each other (every pair across the lanes), then random.
+        for round in 0..300 {
+            let (xa, xb, xc): (Vec<f32>, Vec<f32>, Vec<f32>) = if round < SPECIAL.len() {
+                let r = round;
+                (
+                    (0..n).map(|_| SPECIAL[r]).collect(),
+                    (0..n).map(|i| SPECIAL[i % SPECIAL.len()]).collect(),
+                    (0..n).map(|i| SPECIAL[(i + r) % SPECIAL.len()]).collect(),
+                )
+            } else {
+                (
+                    (0..n).map(|_| rnd(&mut state)).collect(),
+                    (0..n).map(|_| rnd(&mut state)).collect(),
+                    (0..n).map(|_| rnd(&mut state)).collect(),
+                )
+            };
+            let (a, b, c) = (S::load(&xa), S::load(&xb), S::load(&xc));
+            assert!(lanes(a)
+                .iter()
+                .zip(&xa)
+                .all(|(x, y)| x.to_bits() == y.to_bits()));
+            let binary: [(&str, S, fn(f32, f32) -> f32); 6] = [
+                ("add", a + b, |x, y| x + y),
+                ("sub", a - b, |x, y| x - y),
+                ("mul", a * b, |x, y| x * y),
+                ("div", a / b, |x, y| x / y),
+                ("min", Scalar::min(a, b), Scalar::min),
+                ("max", Scalar::max(a, b), Scalar::max),
+            ];
+            for (name, v, f) in binary {
+                for (i, got) in lanes(v).into_iter().enumerate() {
+                    let want = f(xa[i], xb[i]);
+                    assert!(
+                        same(got, want),
+                        "{:?} {name}({}, {}) = {got}, scalar {want}",
+                        S::ISA,
+                        xa[i],
+                        xb[i]
+                    );
+                }
+            }
+            let mut acc = a;
+            acc += b;
+            acc *= c;
+            acc -= a;
+            acc /= b;
+            let unary: [(&str, S, fn(f32, f32, f32) -> f32); 6] = [
+                ("neg", -a, |x, _, _| -x),
+                ("abs", Scalar::abs(a), |x, _, _| x.abs()),
+                ("sqrt", Scalar::sqrt(a), |x, _, _| x.sqrt()),
+                ("recip", Scalar::recip(a), |x, _, _| 1.0 / x),
+                ("copysign", a.copysign(b), |x, y, _| x.copysign(y)),
+                ("assign ops", acc, |x, y, z| ((x + y) * z - x) / y),
+            ];
+            for (name, v, f) in unary {
+                for (i, got) in lanes(v).into_iter().enumerate() {
+                    let want = f(xa[i], xb[i], xc[i]);
+                    // -x and |x| and copysign are exact bit operations, NaN included.
+                    let ok = if matches!(name, "neg" | "abs" | "copysign") {
+                        got.to_bits() == want.to_bits()
+                    } else {
+                        same(got, want)
+                    };
+                    assert!(
+                        ok,
+                        "{:?} {name}({}, {}) = {got}, scalar {want}",
+                        S::ISA,
+                        xa[i],
+                        xb[i]
+                    );
+                }
+            }
+            for (i, got) in lanes(a.mul_add(b, c)).into_iter().enumerate() {
+                let want = xa[i].mul_add(xb[i], xc[i]);
+                assert!(same(got, want), "{:?} mul_add lane {i}", S::ISA);
+            }
+            let cmps: [(&str, S::Mask, fn(f32, f32) -> bool); 7] = [
+                ("lt", a.lt(b), |x, y| x < y),
+                ("le", a.le(b), |x, y| x <= y),
+                ("gt", a.gt(b), |x, y| x > y),
+                ("ge", a.ge(b), |x, y| x >= y),
+                ("eq", a.eq_mask(b), |x, y| x == y),
+                ("finite", a.is_finite_mask(), |x, _| x.is_finite()),
+                ("nan", a.is_nan_mask(), |x, _| x.is_nan()),
+            ];
+            for (name, m, f) in cmps {
+                let want: Vec<bool> = (0..n).map(|i| f(xa[i], xb[i])).collect();
+                assert_eq!(mask_lanes(m), want, "{:?} {name} {xa:?} {xb:?}", S::ISA);
+                let bits = m.bitmask();
+                assert_eq!(S::Mask::from_bitmask(bits), m);
+                for i in 0..n {
+                    assert_eq!(bits >> i & 1 != 0, want[i]);
+                }
+                assert_eq!(m.any(), want.iter().any(|&w| w));
+                assert_eq!(m.all(), want.iter().all(|&w| w));
+                let sel = lanes(S::select(m, a, b));
+                for i in 0..n {
+                    let w = if want[i] { xa[i] } else { xb[i] };
+                    assert_eq!(
+                        sel[i].to_bits(),
+                        w.to_bits(),
+                        "{:?} select lane {i}",
+                        S::ISA
+                    );
+                }
+            }
+            let (m1, m2) = (a.lt(b), b.le(c));
+            let (l1, l2) = (mask_lanes(m1), mask_lanes(m2));
+            let and: Vec<bool> = (0..n).map(|i| l1[i] & l2[i]).collect();
+            let or: Vec<bool> = (0..n).map(|i| l1[i] | l2[i]).collect();
+            let not: Vec<bool> = l1.iter().map(|&x| !x).collect();
+            assert_eq!(mask_lanes(m1.and(m2)), and);
+            assert_eq!(mask_lanes(m1.or(m2)), or);
+            assert_eq!(mask_lanes(m1.not()), not);
+            for i in 0..n {
+                assert_eq!(a.lane(i).to_bits(), xa[i].to_bits());
+            }
+            checked += 1;
+        }
+        // Constructors.
+        assert!(lanes(S::splat(2.5)).iter().all(|&x| x == 2.5));
+        assert!(lanes(S::default()).iter().all(|&x| x.to_bits() == 0));
+        assert!(S::Mask::splat_bool(true).all() && !S::Mask::splat_bool(false).any());
+        assert_eq!(S::Mask::splat_bool(true).bitmask(), (1u32 << n) - 1);
+        checked
+    }
+}
+
+/// The expression templates on SoA packets of 3-vectors: every lane equals the scalar
+/// expression on that lane's vectors, bit for bit.
+struct CheckVectors;
+
+impl Kernel for CheckVectors {
+    type Output = ();
+    fn run<S: SimdF32>(self) {
+        let n = S::LANES;
+        let mut state = 0x9e37_79b9u32;
+        let gen = |st: &mut u32| -> Vec<f32> {
+            (0..n)
+                .map(|_| {
+                    let x = rnd(st);
+                    if x.is_finite() {
+                        x
+                    } else {
+                        0.5
+                    }
+                })
+                .collect()
+        };
+        for _ in 0..50 {
+            let comps: Vec<Vec<f32>> = (0..6).map(|_| gen(&mut state)).collect();
+            let pa: Vec3<S> = vec3(S::load(&comps[0]), S::load(&comps[1]), S::load(&comps[2]));
+            let pb: Vec3<S> = vec3(S::load(&comps[3]), S::load(&comps[4]), S::load(&comps[5]));
+            let dot = pa.dot(&pb);
+            let cross = pa.cross(&pb);
+            let expr = (&pa * S::splat(2.0) + &pb - &pa * &pb).eval();
+            let norm = pa.normalize();
+            let sel = select(pa.lt(&pb), &pa, &pb).eval();
+            let len = pb.length();
+            // `normalize` takes its rescaling slow path for the whole packet when any
+            // lane's squared length is not a normal number, and that path rounds
+            // differently from the fast one: compare only packets on the fast path.
+            let l2 = pa.length_squared();
+            let fast = (0..n).all(|i| {
+                let x = l2.lane(i);
+                (f32::MIN_POSITIVE..=f32::MAX).contains(&x)
+            });
+            for i in 0..n {
+                let a = vec3(comps[0][i], comps[1][i], comps[2][i]);
+                let b = vec3(comps[3][i], comps[4][i], comps[5][i]);
+                assert!(same(dot.lane(i), a.dot(&b)), "{:?} dot", S::ISA);
+                let c = a.cross(&b);
+                let e = (&a * 2.0f32 + &b - &a * &b).eval();
+                let nm = a.normalize();
+                for k in 0..3 {
+                    assert!(same(cross[k].lane(i), c[k]), "{:?} cross", S::ISA);
+                    assert!(same(expr[k].lane(i), e[k]), "{:?} expression", S::ISA);
+                    if fast {
+                        assert!(same(norm[k].lane(i), nm[k]), "{:?} normalize", S::ISA);
+                    }
+                    let s = if a[k] < b[k] { a[k] } else { b[k] };
+                    assert!(same(sel[k].lane(i), s), "{:?} select", S::ISA);
+                }
+                assert!(same(len.lane(i), b.length()), "{:?} length", S::ISA);
+            }
+        }
+    }
+}
+
+#[test]
+fn lane_ops_match_scalar_for_every_available_isa() {
+    assert!(Isa::Sse2.is_available());
+    for isa in Isa::available() {
+        assert_eq!(isa.dispatch(CheckOps), 300, "{isa}");
+        isa.dispatch(CheckVectors);
+    }
+}
+
+#[test]
+fn detection_and_names() {
+    let best = Isa::detect().expect("x86-64 has SSE2");
+    assert!(best.is_available());
+    assert_eq!(Isa::available().last(), Some(&best));
+    for isa in Isa::ALL {
+        assert_eq!(Isa::from_name(isa.name()), Some(isa));
+        assert_eq!(isa.to_string(), isa.name());
+    }
+    assert_eq!(Isa::from_name("avx"), None);
+    assert_eq!(Isa::Avx512.lanes(), 16);
+}
+
+#[test]
+fn the_inherent_array_conversions_round_trip() {
+    let a: [f32; 4] = core::array::from_fn(|i| i as f32 - 1.5);
+    assert_eq!(F32x4::from_array(a).to_array(), a);
+    if Isa::Avx2.is_available() {
+        let a: [f32; 8] = core::array::from_fn(|i| i as f32 * 0.25);
+        assert_eq!(F32x8::from_array(a).to_array(), a);
+    }
+    if Isa::Avx512.is_available() {
+        let a: [f32; 16] = core::array::from_fn(|i| -(i as f32));
+        assert_eq!(F32x16::from_array(a).to_array(), a);
+        assert_eq!(
+            format!("{:?}", F32x16::from_array(a).lt(F32x16::splat(-7.5)))
+                .matches("true")
+                .count(),
+            8
+        );
+    }
+}
