@@ -8,9 +8,9 @@
 //! - `shadow`: from every eye hit of the tracer (offset off the surface as in shading)
 //!   toward the first light, any hit before the light (Embree `rtcOccluded1`, tracer
 //!   [`tracer::Scene::occluded`]);
-//! - `eye16`: the eye rays in packets of 4x4 pixels (Embree `rtcIntersect16`; the tracer
-//!   casts the same rays one by one in the same tile order until its packet API exists,
-//!   see [`tracer_packet16`]).
+//! - `eye16`: the eye rays in packets of 4x4 pixels (Embree `rtcIntersect16`, tracer
+//!   [`tracer::Scene::intersect_packet`] with the widest instruction set, see
+//!   [`tracer_packet16`]).
 //!
 //! Geometry: polygons and patches are cut into triangles by the tracer's own
 //! triangulation and given to Embree as one triangle mesh; spheres as one
@@ -38,7 +38,9 @@ use std::time::Instant;
 use tracer::geometry::{offset_ray, polygon::triangulate, AccelOptions};
 use tracer::scene::desc::{SceneDesc, Shape};
 use tracer::stats::process_cpu_ms;
+use tracer::packet::MAX_LANES;
 use tracer::{Ray, Scene};
+use vecexpr::simd::Isa;
 use vecexpr::Expr;
 
 /// Rays per parallel task (tasks of packets: this many rays in packets of 16).
@@ -227,15 +229,34 @@ fn rtc_ray(r: &Ray<f32>, t_max: f32) -> RTCRay {
     }
 }
 
-// TRACER PACKET-16 API: when `tracer` offers a closest-hit query for 16 coherent rays
-// (the packet path being written in `vecexpr/src/simd/` and the traversal), call it
-// here on `rays` and write `out` like `Embree::intersect16`; the `eye16` rows then
-// compare packets with packets. Until then the tracer casts the 16 rays one by one.
-/// The tracer's closest hits of one 4x4 packet.
+/// The tracer's closest hits of one 4x4 packet: one packet of sixteen with AVX-512, two
+/// of eight with AVX2 ([`Scene::intersect_packet`]), single rays on other CPUs.
 #[inline]
-fn tracer_packet16(scene: &Scene<f32>, rays: [&Ray<f32>; 16], out: &mut [Option<f32>]) {
-    for (o, r) in out.iter_mut().zip(rays) {
-        *o = scene.intersect(r).map(|h| h.t);
+fn tracer_packet16(
+    scene: &Scene<f32>,
+    isa: Option<Isa>,
+    rays: [&Ray<f32>; 16],
+    out: &mut [Option<f32>],
+) {
+    match isa {
+        Some(isa) if isa >= Isa::Avx2 => {
+            let n = isa.lanes();
+            for (o, r) in out.chunks_mut(n).zip(rays.chunks(n)) {
+                let mut lanes = [None; MAX_LANES];
+                for (l, r) in lanes.iter_mut().zip(r) {
+                    *l = Some(**r);
+                }
+                let hits = scene.intersect_packet(isa, &lanes);
+                for (o, h) in o.iter_mut().zip(&hits) {
+                    *o = h.as_ref().map(|h| h.t);
+                }
+            }
+        }
+        _ => {
+            for (o, r) in out.iter_mut().zip(rays) {
+                *o = scene.intersect(r).map(|h| h.t);
+            }
+        }
     }
 }
 
@@ -442,6 +463,7 @@ fn measure(
     }
 
     // Eye rays in packets of 4x4 pixels.
+    let isa = Isa::detect();
     let order = tile_order(w, h);
     let mut e16 = vec![None; eye.len()];
     let mut t16 = vec![None; eye.len()];
@@ -462,7 +484,7 @@ fn measure(
                 .zip(order.par_chunks(CHUNK))
                 .for_each(|(hs, idx)| {
                     for (h, i) in hs.chunks_exact_mut(16).zip(idx.chunks_exact(16)) {
-                        tracer_packet16(scene, packet(i), h);
+                        tracer_packet16(scene, isa, packet(i), h);
                     }
                 })
         },

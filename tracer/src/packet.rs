@@ -111,8 +111,8 @@ pub fn block_shape(isa: Isa) -> (usize, usize) {
     }
 }
 
-/// Lanes of the widest packet.
-pub(crate) const MAX_LANES: usize = crate::geometry::packet::MAX_LANES;
+/// Lanes of the widest packet (AVX-512's sixteen).
+pub const MAX_LANES: usize = crate::geometry::packet::MAX_LANES;
 
 /// One packet's hits, lane `j * width + i` for pixel `(i, j)` of the block.
 type Block<T> = [Option<Hit<T>>; MAX_LANES];
@@ -263,6 +263,24 @@ pub(crate) fn eye_block<T: Real>(
     let rays = block_rays(cam, grid, block_shape(isa), size, block);
     let hits = trace_block(&scene.geometry, isa, &rays);
     (same_type(rays).expect(F32), same_type(hits).expect(F32))
+}
+
+impl Scene<f32> {
+    /// The closest hits of the first [`Isa::lanes`] rays of `rays` (`None` lanes are
+    /// skipped), traced together as one packet by the kernel of `isa`; the rest of the
+    /// result is `None`. Lane `i` is bit for bit what [`Scene::intersect`] returns for
+    /// `rays[i]`. The rays need not share an origin, but packets pay off when they are
+    /// coherent (neighbouring eye rays).
+    ///
+    /// # Panics
+    /// If the CPU lacks `isa` ([`Isa::is_available`]) or off x86-64.
+    pub fn intersect_packet(
+        &self,
+        isa: Isa,
+        rays: &[Option<Ray<f32>>; MAX_LANES],
+    ) -> [Option<Hit<f32>>; MAX_LANES] {
+        trace_block(&self.geometry, isa, rays)
+    }
 }
 
 /// The eye rays through the pixel centres of an image, gathered into packets once, and
