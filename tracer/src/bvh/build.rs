@@ -68,6 +68,22 @@ impl Box4 {
         }
     }
 
+    /// Grows to contain the point `c` (the same rule per lane as [`Bounds3::add_point`],
+    /// in one `minps`/`maxps` pair).
+    #[inline(always)]
+    fn add_point(&mut self, c: &[f32; 3]) {
+        let p = [c[0], c[1], c[2], 0.0];
+        for i in 0..4 {
+            self.lo[i] = Scalar::min(p[i], self.lo[i]);
+            self.hi[i] = Scalar::max(p[i], self.hi[i]);
+        }
+    }
+
+    fn to_bounds(self) -> Bounds3 {
+        let [lo, hi] = self.to_array();
+        Bounds3 { lo, hi }
+    }
+
     #[inline(always)]
     fn half_area(&self) -> f32 {
         let d: [f32; 3] = core::array::from_fn(|i| (self.hi[i] - self.lo[i]).max(0.0));
@@ -288,12 +304,15 @@ struct Extent {
 /// Bounds of the primitives and of their centroids, by one pass.
 fn measure(prims: &[BuildPrim]) -> Extent {
     let mut bounds = Box4::EMPTY;
-    let mut centroids = Bounds3::EMPTY;
+    let mut centroids = Box4::EMPTY;
     for p in prims {
         bounds.union(&p.bounds);
-        centroids.add_point(p.centroid);
+        centroids.add_point(&p.centroid);
     }
-    Extent { bounds, centroids }
+    Extent {
+        bounds,
+        centroids: centroids.to_bounds(),
+    }
 }
 
 /// Bins of one node for all three axes: bounds and primitive counts, per axis and bin.
@@ -632,23 +651,23 @@ fn partition(
     prims: &mut [BuildPrim],
     left: impl Fn(&BuildPrim) -> bool,
 ) -> (usize, Bounds3, Bounds3) {
-    let (mut lc, mut rc) = (Bounds3::EMPTY, Bounds3::EMPTY);
+    let (mut lc, mut rc) = (Box4::EMPTY, Box4::EMPTY);
     let (mut i, mut j) = (0, prims.len());
     loop {
         while i < j && left(&prims[i]) {
-            lc.add_point(prims[i].centroid);
+            lc.add_point(&prims[i].centroid);
             i += 1;
         }
         while i < j && !left(&prims[j - 1]) {
-            rc.add_point(prims[j - 1].centroid);
+            rc.add_point(&prims[j - 1].centroid);
             j -= 1;
         }
         if i >= j {
-            return (i, lc, rc);
+            return (i, lc.to_bounds(), rc.to_bounds());
         }
         prims.swap(i, j - 1);
-        lc.add_point(prims[i].centroid);
-        rc.add_point(prims[j - 1].centroid);
+        lc.add_point(&prims[i].centroid);
+        rc.add_point(&prims[j - 1].centroid);
         i += 1;
         j -= 1;
     }
