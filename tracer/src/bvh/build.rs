@@ -395,7 +395,7 @@ const BIN_CHUNK: usize = 1 << 14;
 /// Bins per axis for a node of `n` primitives: $4 + n/20$ (the count of Embree's binned
 /// builder, `min(BINS, 4 + 0.05 n)`), but at least $\min(n, 16)$, between [`MIN_BINS`]
 /// and [`NUM_BINS`]. The sweeps cost $O(bins)$ per node; with 32 bins for every node
-/// above 32 primitives they took about a third of the build. Embree's count alone saves
+/// above 32 primitives they took about a fifth of the build. Embree's count alone saves
 /// more (35 % of the build's instructions against 20 %) but raises the SAH cost of the
 /// triangle scenes by up to 0.6 %; keeping 16 bins for the small nodes, where the leaves
 /// are decided, keeps it within 0.15 % of 32 bins everywhere.
