@@ -369,8 +369,9 @@ impl<T: Real> Geometry<T> {
     /// [`Geometry::occluded_kinds`] with a shadow cache entry (Haines and Greenberg,
     /// "The Light Buffer", IEEE CG&A 6(9), 1986: the object that last blocked a light is
     /// the likeliest to block it again). `*hint` is a primitive reference from an
-    /// earlier call, or [`NO_HINT`]; that primitive is tested first, and when another
-    /// one is found to occlude the ray it is stored in `*hint`. Any value of `*hint` is
+    /// earlier call, or [`NO_HINT`]; that primitive is tested first. When it does not
+    /// block the ray, `*hint` becomes the occluder found instead, or [`NO_HINT`] if the
+    /// ray is unblocked. Any value of `*hint` is
     /// safe (one that names no primitive of this geometry is ignored), and the answer
     /// is always that of `occluded_kinds`: a hint only changes how soon it is found.
     #[inline(always)]
@@ -448,9 +449,8 @@ impl<T: Real> Geometry<T> {
                 None => false,
             },
         };
-        if hit {
-            *hint = found;
-        }
+        // An unblocked ray clears the entry: lit regions then pay no hint test.
+        *hint = found;
         hit
     }
 
