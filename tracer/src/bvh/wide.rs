@@ -222,8 +222,23 @@ impl Bvh {
                         });
                         sp += 1;
                     }
+                } else if bits & (bits - 1) == 0 {
+                    // Two children hit: visit the nearer, push the farther.
+                    let second = bits.trailing_zeros() as usize;
+                    let (near, far) = if tn[second] < tn[first] {
+                        (second, first)
+                    } else {
+                        (first, second)
+                    };
+                    stack[sp].write(Entry {
+                        child: node.child[far],
+                        count: node.count[far],
+                        t: tn[far],
+                    });
+                    sp += 1;
+                    entry = Some((node.child[near], node.count[near]));
                 } else {
-                    // Hit children sorted by entry distance (insertion sort of 2..=4),
+                    // Hit children sorted by entry distance (insertion sort of 3 or 4),
                     // pushed farthest first so that pops come nearest first.
                     let mut order = [first; WIDTH];
                     let mut k = 1;
