@@ -8,10 +8,11 @@
 
 use crate::arith::Arith;
 use crate::effects::{self, has, ADAPTIVE, REFLECTION, REFRACTION, SHADOWS, SPECULAR};
-use crate::geometry::offset_ray;
+use crate::geometry::{offset_ray, NO_HINT};
 use crate::ray::{Hit, Ray};
 use crate::stats::RayCounts;
 use crate::world::Scene;
+use std::cell::Cell;
 use vecexpr::{Expr, Real, Vec3};
 
 /// How deep and how far the recursion goes, and SPD's counting rules.
@@ -111,7 +112,7 @@ pub fn shade_fx<T: Real, const FX: u32>(
     // Direct light with shadow rays.
     let above = offset_ray(p, &ng, &ng);
     if has(FX, SHADOWS) {
-        for light in &scene.lights {
+        for (li, light) in scene.lights.iter().enumerate() {
             // No shadow ray toward a light without intensity...
             if light.intensity.max_element() <= T::ZERO {
                 continue;
@@ -126,8 +127,11 @@ pub fn shade_fx<T: Real, const FX: u32>(
                 continue;
             }
             counts.shadow += 1;
-            let shadow = Ray::new(above, l);
-            if scene.occluded_kinds::<FX>(&shadow, dist) {
+            let shadow = Ray {
+                t_max: dist,
+                ..Ray::new(above, l)
+            };
+            if occluded_cached::<T, FX>(scene, &shadow, depth, li) {
                 continue;
             }
             let ndotl = ar.dot(&ns, &l).max(T::ZERO);
@@ -176,6 +180,42 @@ pub fn shade_fx<T: Real, const FX: u32>(
         ar.add_scaled(&mut color, &c, kr);
     }
     color
+}
+
+/// Lights and ray depths with a shadow cache entry; shadow rays of others go uncached.
+const CACHE_LIGHTS: usize = 8;
+/// See [`CACHE_LIGHTS`].
+const CACHE_DEPTHS: usize = 8;
+
+thread_local! {
+    /// The last occluder found per ray depth and light on this thread (Haines and
+    /// Greenberg 1986), tested before the BVH walk. It only decides how soon an
+    /// occluder is found, never whether one is, so images do not depend on which
+    /// thread shaded which pixel before.
+    static SHADOW_CACHE: [[Cell<u32>; CACHE_LIGHTS]; CACHE_DEPTHS] =
+        const { [const { [const { Cell::new(NO_HINT) }; CACHE_LIGHTS] }; CACHE_DEPTHS] };
+}
+
+/// Is the shadow ray toward light `light` from a hit of a depth-`depth` ray blocked?
+#[inline(always)]
+fn occluded_cached<T: Real, const FX: u32>(
+    scene: &Scene<T>,
+    shadow: &Ray<T>,
+    depth: u32,
+    light: usize,
+) -> bool {
+    let level = depth.saturating_sub(1) as usize;
+    if level >= CACHE_DEPTHS || light >= CACHE_LIGHTS {
+        return scene.geometry.occluded_kinds::<FX>(shadow);
+    }
+    // The query runs outside `with`, whose closure the optimiser treats less well.
+    let mut hint = SHADOW_CACHE.with(|cache| cache[level][light].get());
+    let was = hint;
+    let blocked = scene.geometry.occluded_hint_kinds::<FX>(shadow, &mut hint);
+    if hint != was {
+        SHADOW_CACHE.with(|cache| cache[level][light].set(hint));
+    }
+    blocked
 }
 
 /// Is a secondary ray of accumulated weight `w` worth tracing? Always, without adaptive

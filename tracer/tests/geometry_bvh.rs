@@ -1,7 +1,7 @@
 //! The BVH against brute force on random scenes, `occluded` against `intersect`, and the
 //! determinism of the parallel build.
 
-use tracer::geometry::{AccelOptions, Geometry, TriangleTest};
+use tracer::geometry::{kinds, AccelOptions, Geometry, TriangleTest, NO_HINT};
 use tracer::scene::desc::{Shape, ShapeDesc, P3};
 use tracer::Ray;
 use vecexpr::{vec3, Real};
@@ -229,6 +229,51 @@ macro_rules! bvh_tests {
                     ],
                 );
                 assert!(hits > 500, "{hits} hits");
+            }
+
+            #[test]
+            fn shadow_cache_never_changes_occluded() {
+                // The hint carried from ray to ray (as the shadow cache does), reset, or
+                // garbage (references to nothing, other kinds, out-of-range indices).
+                let mut rng = Pcg(9);
+                let mut shapes = random_scene(&mut rng, 600, &[0, 1, 2, 3, 4]);
+                shapes.push(desc(
+                    Shape::Polygon {
+                        vertices: vec![
+                            [-40.0, -12.0, -40.0],
+                            [40.0, -12.0, -40.0],
+                            [40.0, -12.0, 40.0],
+                        ],
+                    },
+                    0,
+                ));
+                let rays = random_rays::<T>(&mut rng, 4_000);
+                for wide in [true, false] {
+                    for use_bvh in [true, false] {
+                        let o = AccelOptions {
+                            wide,
+                            use_bvh,
+                            ..opts(TriangleTest::Watertight, 4)
+                        };
+                        let g = Geometry::<T>::build(&shapes, &o);
+                        let (mut carried, mut blocked) = (NO_HINT, 0);
+                        for (i, r) in rays.iter().enumerate() {
+                            let want = g.occluded(r);
+                            blocked += usize::from(want);
+                            let got = g.occluded_hint_kinds::<{ kinds::ALL }>(r, &mut carried);
+                            assert_eq!(got, want, "ray {i}, carried hint");
+                            let mut junk = match i % 4 {
+                                0 => NO_HINT,
+                                1 => rng.next_u32(),
+                                2 => rng.next_u32() % 2048,
+                                _ => (3 << 30) | (rng.next_u32() % 4),
+                            };
+                            let got = g.occluded_hint_kinds::<{ kinds::ALL }>(r, &mut junk);
+                            assert_eq!(got, want, "ray {i}, hint {junk}");
+                        }
+                        assert!(blocked > 400, "{blocked} blocked");
+                    }
+                }
             }
 
             #[test]

@@ -28,6 +28,7 @@
 use super::node::Node;
 use super::traverse::TraversalRay;
 use super::Bvh;
+use core::mem::MaybeUninit;
 use vecexpr::typenum::U4;
 use vecexpr::{Mask, Packet, Real, Scalar};
 
@@ -130,6 +131,14 @@ impl<T: Real> TraversalRay<T> {
     /// (conservatively) and the entry distance.
     #[inline(always)]
     pub fn hit_box4(&self, node: &Node4, t_max: T) -> ([bool; WIDTH], [T; WIDTH]) {
+        let (bits, t_near) = self.hit_box4_bits(node, t_max);
+        (core::array::from_fn(|i| bits & (1 << i) != 0), t_near)
+    }
+
+    /// [`TraversalRay::hit_box4`] with the hit lanes as bits (`1 << lane`), which the
+    /// traversal branches on once instead of once per lane.
+    #[inline(always)]
+    pub fn hit_box4_bits(&self, node: &Node4, t_max: T) -> (u32, [T; WIDTH]) {
         let lanes = |v: &[f32; WIDTH]| P4::<T>::from_fn(|i| T::from_f64(f64::from(v[i])));
         let mut t_near = P4::<T>::splat(self.t_min);
         let mut t_far = P4::<T>::splat(t_max);
@@ -146,11 +155,21 @@ impl<T: Real> TraversalRay<T> {
             t_far = Scalar::min(tf, t_far);
         }
         let hit = t_near.le(t_far * P4::<T>::splat(self.slack));
-        (
-            core::array::from_fn(|i| hit.test(i)),
-            core::array::from_fn(|i| t_near.lane(i)),
-        )
+        let mut bits = 0;
+        for i in 0..WIDTH {
+            bits |= (hit.test(i) as u32) << i;
+        }
+        (bits, core::array::from_fn(|i| t_near.lane(i)))
     }
+}
+
+/// A pending subtree: child (node index or first reference), count (0 for an interior
+/// node) and entry distance.
+#[derive(Clone, Copy)]
+struct Entry<T> {
+    child: u32,
+    count: u32,
+    t: T,
 }
 
 impl Bvh {
@@ -161,7 +180,9 @@ impl Bvh {
 
     /// As [`Bvh::traverse`], over the four-wide tree: at each node the four child boxes
     /// are tested in one packet, the hit children are visited nearest first and the
-    /// others pushed with their entry distances.
+    /// others pushed with their entry distances. With `ANY_HIT` the hit children are
+    /// visited in slot order instead: the walk stops at the first hit anyway, and
+    /// `t_max` never shrinks, so neither sorting nor the distance check on pop pays.
     #[inline(always)]
     pub fn traverse4<T: Real, const ANY_HIT: bool>(
         &self,
@@ -173,39 +194,77 @@ impl Bvh {
         if nodes.is_empty() {
             return false;
         }
-        // Entries: (child, count, entry distance); count 0 is an interior node.
-        let mut stack = [(0u32, 0u32, T::ZERO); STACK_SIZE];
+        // Left uninitialised: only the entries below `sp` are ever read, and zeroing
+        // the whole array cost more than a typical query's box tests.
+        let mut stack = [const { MaybeUninit::<Entry<T>>::uninit() }; STACK_SIZE];
         let mut sp = 0usize;
         let mut found = false;
         let mut at = 0usize;
         'walk: loop {
             let node = &nodes[at];
-            let (hit, tn) = ray.hit_box4(node, t_max);
-            // Hit children sorted by entry distance (insertion sort of at most four).
-            let mut order = [0usize; WIDTH];
-            let mut k = 0;
-            for (i, &h) in hit.iter().enumerate() {
-                if h {
-                    let mut j = k;
-                    while j > 0 && tn[i] < tn[order[j - 1]] {
-                        order[j] = order[j - 1];
-                        j -= 1;
+            let (mut bits, tn) = ray.hit_box4_bits(node, t_max);
+            let mut entry = None;
+            if bits != 0 {
+                let first = bits.trailing_zeros() as usize;
+                bits &= bits - 1;
+                if bits == 0 {
+                    // One child hit (the common case): no ordering.
+                    entry = Some((node.child[first], node.count[first]));
+                } else if ANY_HIT {
+                    entry = Some((node.child[first], node.count[first]));
+                    while bits != 0 {
+                        let i = bits.trailing_zeros() as usize;
+                        bits &= bits - 1;
+                        stack[sp].write(Entry {
+                            child: node.child[i],
+                            count: node.count[i],
+                            t: tn[i],
+                        });
+                        sp += 1;
                     }
-                    order[j] = i;
-                    k += 1;
-                }
-            }
-            // Push all but the nearest, farthest first, so pops come nearest first.
-            let mut next = None;
-            for (rank, &i) in order[..k].iter().enumerate().rev() {
-                if rank == 0 {
-                    next = Some((node.child[i], node.count[i]));
-                } else {
-                    stack[sp] = (node.child[i], node.count[i], tn[i]);
+                } else if bits & (bits - 1) == 0 {
+                    // Two children hit: visit the nearer, push the farther.
+                    let second = bits.trailing_zeros() as usize;
+                    let (near, far) = if tn[second] < tn[first] {
+                        (second, first)
+                    } else {
+                        (first, second)
+                    };
+                    stack[sp].write(Entry {
+                        child: node.child[far],
+                        count: node.count[far],
+                        t: tn[far],
+                    });
                     sp += 1;
+                    entry = Some((node.child[near], node.count[near]));
+                } else {
+                    // Hit children sorted by entry distance (insertion sort of 3 or 4),
+                    // pushed farthest first so that pops come nearest first.
+                    let mut order = [first; WIDTH];
+                    let mut k = 1;
+                    while bits != 0 {
+                        let i = bits.trailing_zeros() as usize;
+                        bits &= bits - 1;
+                        let mut j = k;
+                        while j > 0 && tn[i] < tn[order[j - 1]] {
+                            order[j] = order[j - 1];
+                            j -= 1;
+                        }
+                        order[j] = i;
+                        k += 1;
+                    }
+                    for &i in order[1..k].iter().rev() {
+                        stack[sp].write(Entry {
+                            child: node.child[i],
+                            count: node.count[i],
+                            t: tn[i],
+                        });
+                        sp += 1;
+                    }
+                    let i = order[0];
+                    entry = Some((node.child[i], node.count[i]));
                 }
             }
-            let mut entry = next;
             loop {
                 match entry {
                     Some((child, 0)) => {
@@ -229,9 +288,11 @@ impl Bvh {
                 entry = None;
                 while sp > 0 {
                     sp -= 1;
-                    let (c, n, t) = stack[sp];
-                    if t <= t_max * ray.slack {
-                        entry = Some((c, n));
+                    // SAFETY: every slot below `sp` was written by a push above, and
+                    // `Entry` is `Copy`, so reading it out leaves the slot valid.
+                    let e = unsafe { stack[sp].assume_init_read() };
+                    if ANY_HIT || e.t <= t_max * ray.slack {
+                        entry = Some((e.child, e.count));
                         break;
                     }
                 }

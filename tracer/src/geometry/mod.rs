@@ -201,6 +201,9 @@ struct Best<T: Real> {
 /// No candidate yet (never a valid reference: planes are capped below this index).
 const NO_HIT: u32 = u32::MAX;
 
+/// The empty shadow cache entry of [`Geometry::occluded_hint_kinds`].
+pub const NO_HINT: u32 = NO_HIT;
+
 /// All primitives of a scene in precision `T`, with their BVH.
 ///
 /// # Examples
@@ -362,6 +365,94 @@ impl<T: Real> Geometry<T> {
             TriangleTest::Watertight => self.any::<true, KINDS>(ray),
             TriangleTest::MollerTrumbore => self.any_moller_trumbore(ray),
         }
+    }
+
+    /// [`Geometry::occluded_kinds`] with a shadow cache entry (Haines and Greenberg,
+    /// "The Light Buffer", IEEE CG&A 6(9), 1986: the object that last blocked a light is
+    /// the likeliest to block it again). `*hint` is a primitive reference from an
+    /// earlier call, or [`NO_HINT`]; that primitive is tested first. When it does not
+    /// block the ray, `*hint` becomes the occluder found instead, or [`NO_HINT`] if the
+    /// ray is unblocked. Any value of `*hint` is
+    /// safe (one that names no primitive of this geometry is ignored), and the answer
+    /// is always that of `occluded_kinds`: a hint only changes how soon it is found.
+    #[inline(always)]
+    pub fn occluded_hint_kinds<const KINDS: u32>(&self, ray: &Ray<T>, hint: &mut u32) -> bool {
+        debug_assert_eq!(self.kinds() & !KINDS, 0, "primitive kinds left out");
+        match self.triangle_test {
+            TriangleTest::Watertight => self.any_hint::<true, KINDS>(ray, hint),
+            TriangleTest::MollerTrumbore => self.any_hint_moller_trumbore(ray, hint),
+        }
+    }
+
+    #[inline(never)]
+    fn any_hint_moller_trumbore(&self, ray: &Ray<T>, hint: &mut u32) -> bool {
+        self.any_hint::<false, { kinds::ALL }>(ray, hint)
+    }
+
+    /// Does the primitive `r` exist in this geometry (with a kind in `KINDS`)?
+    #[inline(always)]
+    fn names_prim<const KINDS: u32>(&self, r: u32) -> bool {
+        let tag = r >> TAG_SHIFT;
+        let i = (r & INDEX_MASK) as usize;
+        let p = &self.prims;
+        kind_in::<KINDS>(tag)
+            && i < match tag {
+                SPHERE => p.spheres.len(),
+                TRIANGLE => p.triangles.len(),
+                CONE => p.cones.len(),
+                _ => p.planes.len(),
+            }
+    }
+
+    #[inline(always)]
+    fn any_hint<const WATERTIGHT: bool, const KINDS: u32>(
+        &self,
+        ray: &Ray<T>,
+        hint: &mut u32,
+    ) -> bool {
+        let Some(rd) = RayData::new(ray) else {
+            return false;
+        };
+        let limit = rd.t_limit;
+        let hits = |r: u32| self.test::<WATERTIGHT, KINDS>(r, &rd, limit).is_some();
+        let cached = *hint;
+        if cached != NO_HINT && self.names_prim::<KINDS>(cached) && hits(cached) {
+            return true;
+        }
+        let planes = if kind_in::<KINDS>(PLANE) {
+            self.prims.planes.len()
+        } else {
+            0
+        };
+        if let Some(i) = (0..planes).find(|&i| hits(make_ref(PLANE, i))) {
+            *hint = make_ref(PLANE, i);
+            return true;
+        }
+        let mut found = NO_HINT;
+        let hit = match &self.bvh {
+            Some(bvh) => {
+                let leaf = |refs: &[u32], _| {
+                    let r = *refs.iter().find(|&&r| hits(r))?;
+                    found = r;
+                    Some(limit)
+                };
+                if self.wide {
+                    bvh.traverse4::<T, true>(&rd.traversal, limit, leaf)
+                } else {
+                    bvh.traverse::<T, true>(&rd.traversal, limit, leaf)
+                }
+            }
+            None => match self.all_refs().find(|&r| hits(r)) {
+                Some(r) => {
+                    found = r;
+                    true
+                }
+                None => false,
+            },
+        };
+        // An unblocked ray clears the entry: lit regions then pay no hint test.
+        *hint = found;
+        hit
     }
 
     #[inline(never)]
