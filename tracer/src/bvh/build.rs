@@ -854,8 +854,7 @@ mod tests {
 
     #[test]
     fn bin_counts_grow_with_the_node() {
-        assert_eq!(bin_count(1), MIN_BINS);
-        assert_eq!(bin_count(3), 3);
+        assert_eq!(bin_count(2), 4);
         assert_eq!(bin_count(8), 8);
         assert_eq!(bin_count(100), 16);
         assert_eq!(bin_count(400), 24);
