@@ -43,7 +43,8 @@ def rows(path):
     out = {}
     for line in open(path):
         c = [x.strip() for x in line.strip().strip('|').split('|')]
-        if len(c) > 3 and c[0] not in ('scene',) and not c[0].startswith('---'):
+        # The first table of a file (`tracer bench` prints a packet table after it).
+        if len(c) > 3 and c[0] != 'scene' and not c[0].startswith('---') and c[0] not in out:
             out[c[0]] = c
     return out
 bench, build = rows(f'{d}/bench.md'), rows(f'{d}/build.md')

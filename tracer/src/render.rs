@@ -674,6 +674,8 @@ pub fn accumulate_pass<T: Real>(
         limits: one.limits::<T>(),
         aa,
         pass,
+        // One sample per pixel is the pixel centre, which the packets trace.
+        packets: packet_isa::<T>(&one).filter(|_| aa <= 1),
         sums,
     };
     let any: &dyn core::any::Any = scene;
@@ -691,6 +693,8 @@ struct Pass<'a, T: Real> {
     limits: TraceLimits<T>,
     aa: u32,
     pass: u32,
+    /// Trace the eye rays in packets of this instruction set (only when `aa <= 1`).
+    packets: Option<vecexpr::simd::Isa>,
     sums: &'a mut [Vec3<T>],
 }
 
@@ -702,9 +706,36 @@ impl<T: Real> EffectFn<RayCounts> for Pass<'_, T> {
             limits,
             aa,
             pass,
+            packets,
             sums,
         } = self;
         let w = cam.width as usize;
+        if let Some(isa) = packets {
+            // Pixel centres, as below with a = 1: x + (0 + 1/2) * 1 = x + 1/2 exactly.
+            let h = cam.height as usize;
+            let (bw, bh) = block_shape(isa);
+            return sums
+                .par_chunks_mut((w * bh).max(1))
+                .enumerate()
+                .map(|(by, rows)| {
+                    let mut counts = RayCounts::default();
+                    for bx in 0..w.div_ceil(bw) {
+                        eye_packet::<T, FX>(
+                            scene,
+                            cam,
+                            isa,
+                            EyeGrid::Centers,
+                            (w, h),
+                            (bx, by),
+                            &limits,
+                            &mut counts,
+                            |l, c| rows[(l / bw) * w + bx * bw + l % bw] += c,
+                        );
+                    }
+                    counts
+                })
+                .reduce(RayCounts::default, |a, b| a + b);
+        }
         let a = aa.max(1);
         let (i, j) = (pass % a, (pass / a) % a);
         let inv_a = T::from_f64(1.0 / a as f64);

@@ -106,6 +106,36 @@ fn images_are_identical_with_packets_on_or_off_and_across_isas() {
 }
 
 #[test]
+fn viewer_passes_are_identical_with_packets_on_or_off() {
+    for name in shipped() {
+        let s = scene(&name, &AccelOptions::default());
+        let cam = s.camera_for(37, 29);
+        let off = Settings {
+            packets: Packets::Off,
+            ..Settings::default()
+        };
+        let pass = |settings: &Settings, aa: u32| {
+            let mut sums = vec![vecexpr::vec3(0.0f32, 0.0, 0.0); 37 * 29];
+            let (counts, _) = tracer::render::accumulate_pass(&s, &cam, settings, aa, 0, &mut sums);
+            (sums.iter().map(bits).collect::<Vec<_>>(), counts)
+        };
+        for aa in [1, 2] {
+            let reference = pass(&off, aa);
+            for isa in Isa::available() {
+                let on = Settings {
+                    packets: Packets::On(isa),
+                    ..off.clone()
+                };
+                assert!(
+                    pass(&on, aa) == reference,
+                    "{name} aa={aa} {isa}: pass differs"
+                );
+            }
+        }
+    }
+}
+
+#[test]
 fn fallbacks_give_the_same_image() {
     // Möller–Trumbore triangles and brute force trace each ray of a packet alone; the
     // binary tree is what packets walk, the four-wide one what single rays walk.
