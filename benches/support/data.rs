@@ -101,6 +101,16 @@ impl Soa {
     }
 }
 
+/// `v` as packets of `lanes` 3-vectors in one flat buffer (array of structures of arrays):
+/// packet `p` is `x[0..lanes], y[0..lanes], z[0..lanes]` of vectors `p * lanes ..`, the
+/// memory layout of ultraviolet's `Vec3x8` and of `Vector<F32x8, U3>`. A last partial
+/// packet is dropped.
+pub fn aosoa(v: &[[f32; 3]], lanes: usize) -> Vec<f32> {
+    v.chunks_exact(lanes)
+        .flat_map(|c| (0..3).flat_map(move |k| c.iter().map(move |p| p[k])))
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -119,5 +129,11 @@ mod tests {
         let v = a.vec3s(5);
         let s = Soa::from_aos(&v);
         assert_eq!(s.get(3), v[3]);
+        let p = aosoa(&v, 2);
+        assert_eq!(p.len(), 12);
+        assert_eq!(
+            p[6..12],
+            [v[2][0], v[3][0], v[2][1], v[3][1], v[2][2], v[3][2]]
+        );
     }
 }

@@ -110,7 +110,7 @@ impl Run {
 }
 
 /// Order in which implementations appear as table columns.
-pub const IMPLEMENTATIONS: [&str; 10] = [
+pub const IMPLEMENTATIONS: [&str; 12] = [
     "vecexpr",
     "vecexpr_fma",
     "eager",
@@ -121,6 +121,8 @@ pub const IMPLEMENTATIONS: [&str; 10] = [
     "nalgebra",
     "ultraviolet",
     "ultraviolet_x8",
+    "vecexpr_f32x8",
+    "vecexpr_f32x16",
 ];
 
 /// Order of the size labels.
