@@ -9,8 +9,10 @@
 #       builds the bench once per target (x86-64 = the default build, in target/; others
 #       with RUSTFLAGS="-C target-cpu=TARGET" in target/bench-targets/TARGET, which
 #       changes ultraviolet: its f32x8 is two SSE registers unless AVX is enabled at
-#       compile time), runs the SoA geometry benchmarks (one criterion run per target) and
-#       prints a table of the medians.
+#       compile time), runs the SoA geometry benchmarks (every implementation side by side
+#       in one criterion run per target; LANES_ROUNDS rounds, default 3, the targets
+#       alternating) and prints a table of the medians over the rounds of criterion's
+#       medians.
 #   benches/lanes.sh ab BIN_A BIN_B [ROUNDS]
 #       runs two bench executables alternately (ROUNDS times each, default 3) on the
 #       explicit-lane benchmarks and prints, per benchmark, the median over the rounds of
@@ -31,8 +33,15 @@ table() {
 import json, os, statistics, sys
 homes = sys.argv[1:]
 def median(home, g, i, s):
-    p = os.path.join(home, g, i, s, "new", "estimates.json")
-    return json.load(open(p))["median"]["point_estimate"] if os.path.exists(p) else None
+    # The median over the rounds (directories HOME-1, HOME-2, ...) of criterion's medians.
+    ms = []
+    r = 1
+    while os.path.isdir(f"{home}-{r}"):
+        p = os.path.join(f"{home}-{r}", g, i, s, "new", "estimates.json")
+        if os.path.exists(p):
+            ms.append(json.load(open(p))["median"]["point_estimate"])
+        r += 1
+    return statistics.median(ms) if ms else None
 def fmt(ns):
     return "" if ns is None else (f"{ns / 1000:.2f} µs" if ns >= 1000 else f"{ns:.0f} ns")
 groups = ["normalize", "cross", "reflect", "refract", "reflect_normalize", "normalize_zero_lane"]
@@ -102,12 +111,19 @@ for t in "${targets[@]}"; do
         bins+=("$(RUSTFLAGS="-C target-cpu=$t" CARGO_TARGET_DIR=$root/target/bench-targets/$t build)")
     fi
 done
+rounds=${LANES_ROUNDS:-3}
 homes=()
 for k in "${!targets[@]}"; do
     home=$root/target/bench-targets/lanes-${targets[$k]}
-    rm -rf "$home"
-    echo "== ${targets[$k]}: ${bins[$k]}" >&2
-    CRITERION_HOME=$home "${bins[$k]}" --bench "$filter" >&2
+    rm -rf "$home" "$home"-*
     homes+=("${targets[$k]}=$home")
+done
+# The targets alternate, round after round, so a change in the machine's load touches all.
+for r in $(seq "$rounds"); do
+    for k in "${!targets[@]}"; do
+        echo "== round $r, ${targets[$k]}: ${bins[$k]}" >&2
+        CRITERION_HOME=$root/target/bench-targets/lanes-${targets[$k]}-$r \
+            "${bins[$k]}" --bench "$filter" >&2
+    done
 done
 table "${homes[@]}"

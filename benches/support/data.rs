@@ -111,6 +111,42 @@ pub fn aosoa(v: &[[f32; 3]], lanes: usize) -> Vec<f32> {
         .collect()
 }
 
+/// `f32`s whose first element is 64-byte aligned (a cache line, the alignment of an
+/// AVX-512 register), so the packets of [`aosoa`] sit in memory as ultraviolet's
+/// `Vec3x8` (aligned to 32 bytes by its type) and vecexpr's lane types do, and no
+/// register load or store is split across cache lines.
+#[derive(Clone, Debug)]
+pub struct Aligned {
+    buf: Vec<f32>,
+    off: usize,
+    len: usize,
+}
+
+impl Aligned {
+    /// A 64-byte aligned copy of `v`.
+    pub fn new(v: &[f32]) -> Self {
+        let mut buf = vec![0.0f32; v.len() + 16];
+        let off = buf.as_ptr().align_offset(64);
+        assert!(off < 16, "no 64-byte aligned f32 within 16 elements");
+        buf[off..off + v.len()].copy_from_slice(v);
+        Self {
+            buf,
+            off,
+            len: v.len(),
+        }
+    }
+
+    /// The elements.
+    pub fn as_slice(&self) -> &[f32] {
+        &self.buf[self.off..self.off + self.len]
+    }
+
+    /// The elements, mutably.
+    pub fn as_mut_slice(&mut self) -> &mut [f32] {
+        &mut self.buf[self.off..self.off + self.len]
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

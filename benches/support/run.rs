@@ -2,6 +2,7 @@
 //! timed by the same code: inputs `black_box`ed, outputs kept alive.
 
 use crate::config::id;
+use crate::data::Aligned;
 use criterion::measurement::WallTime;
 use criterion::BenchmarkGroup;
 use std::hint::black_box;
@@ -99,7 +100,8 @@ pub fn soa(
 /// flat packet layout of [`crate::data::aosoa`], run through [`Isa::dispatch`]: `run`
 /// is called with the instruction set and the input and output buffers, and is expected
 /// to dispatch a [`vecexpr::simd::Kernel`] that loops over all packets, so the whole loop
-/// is compiled for that instruction set. Skipped (with a note) where the CPU lacks it.
+/// is compiled for that instruction set. The buffers are copied to 64-byte aligned
+/// memory first. Skipped (with a note) where the CPU lacks it.
 pub fn lanes(
     g: &mut BenchmarkGroup<'_, WallTime>,
     implementation: &str,
@@ -113,10 +115,13 @@ pub fn lanes(
         eprintln!("{implementation}/{size}: skipped, this CPU has no {isa}");
         return;
     }
-    let mut out = vec![0.0f32; a.len()];
+    // Inputs and output 64-byte aligned, as the lane types and ultraviolet's are.
+    let (a, b) = (Aligned::new(a), Aligned::new(b));
+    let (a, b) = (a.as_slice(), b.as_slice());
+    let mut out = Aligned::new(a);
     g.bench_function(id(implementation, size), |bch| {
         bch.iter(|| {
-            run(isa, black_box(a), black_box(b), &mut out);
+            run(isa, black_box(a), black_box(b), out.as_mut_slice());
             black_box(&mut out);
         })
     });
