@@ -179,7 +179,10 @@ pub type Lanes16 = Vector<vecexpr::simd::F32x16, U3>;
 /// Reflects and normalises eight rays on explicit AVX2 lanes, compiled for AVX2 + FMA
 /// whatever the target (as `Isa::dispatch` compiles a kernel): the robust normalize's
 /// rescaling is inline, lane by lane, so the only branch is the test whether any lane
-/// needs it. Call it only on a CPU with AVX2 and FMA.
+/// needs it.
+///
+/// # Safety
+/// Call it only on a CPU with AVX2 and FMA (`vecexpr::simd::Isa::Avx2.is_available()`).
 #[unsafe(no_mangle)]
 #[inline(never)]
 #[target_feature(enable = "avx2,fma")]
@@ -188,7 +191,10 @@ pub fn reflect_normalize_f32x8(i: &Lanes8, n: &Lanes8, out: &mut Lanes8) {
 }
 
 /// Reflects and normalises sixteen rays on explicit AVX-512 lanes, compiled for
-/// AVX-512F whatever the target. Call it only on a CPU with AVX-512F.
+/// AVX-512F whatever the target.
+///
+/// # Safety
+/// Call it only on a CPU with AVX-512F (`vecexpr::simd::Isa::Avx512.is_available()`).
 #[unsafe(no_mangle)]
 #[inline(never)]
 #[target_feature(enable = "avx512f,avx2,fma")]

@@ -362,6 +362,22 @@ pub fn targets(runs: &[Run]) -> String {
                 .unwrap();
             }
         }
+        // The same target for vecexpr on the explicit lane types of `vecexpr::simd`.
+        for (implementation, size) in [
+            ("vecexpr_f32x16", "soa16x4096"),
+            ("vecexpr_f32x8", "soa8x4096"),
+        ] {
+            if let (Some(v), Some(u)) = (r.median("reflect_normalize", implementation, size), uv) {
+                writeln!(
+                    s,
+                    "| {t} | reflect+normalize {size}, {implementation}: at least as fast as ultraviolet Vec3x8 | {} vs {} | {} |",
+                    format_ns(v),
+                    format_ns(u),
+                    verdict(v <= u)
+                )
+                .unwrap();
+            }
+        }
     }
     s
 }
