@@ -3,7 +3,8 @@
 //! Inputs come by reference and the result goes out through `&mut`, so nothing is
 //! optimised away and the body is only the kernel. Names say kernel, then type:
 //! `f32x3` is one `Vec3<f32>`, `f32x4` one padded 4-vector, `packet8`/`packet16` one SoA
-//! packet of 8 or 16 three-vectors (`Vec3<Packet<f32, U8|U16>>`), `glam_vec3a` the glam
+//! packet of 8 or 16 three-vectors (`Vec3<Packet<f32, U8|U16>>`), `f32x8`/`f32x16` the
+//! same on vecexpr's explicit lane types (`vecexpr::simd`), `glam_vec3a` the glam
 //! equivalent, `fma` the variant written with explicit fused multiply-adds (only checked
 //! on targets with FMA: plain `x86-64` turns each into a call to `fmaf`).
 //!
@@ -168,6 +169,37 @@ pub fn reflect_normalize_packet8(i: &Soa8, n: &Soa8, out: &mut Soa8) {
 #[inline(never)]
 pub fn reflect_normalize_glam_vec3a(i: &Vec3A, n: &Vec3A, out: &mut Vec3A) {
     *out = i.reflect(*n).normalize();
+}
+
+/// Eight 3-vectors on vecexpr's explicit AVX2 lanes (`vecexpr::simd::F32x8`).
+pub type Lanes8 = Vector<vecexpr::simd::F32x8, U3>;
+/// Sixteen 3-vectors on vecexpr's explicit AVX-512 lanes (`vecexpr::simd::F32x16`).
+pub type Lanes16 = Vector<vecexpr::simd::F32x16, U3>;
+
+/// Reflects and normalises eight rays on explicit AVX2 lanes, compiled for AVX2 + FMA
+/// whatever the target (as `Isa::dispatch` compiles a kernel): the robust normalize's
+/// rescaling is inline, lane by lane, so the only branch is the test whether any lane
+/// needs it.
+///
+/// # Safety
+/// Call it only on a CPU with AVX2 and FMA (`vecexpr::simd::Isa::Avx2.is_available()`).
+#[unsafe(no_mangle)]
+#[inline(never)]
+#[target_feature(enable = "avx2,fma")]
+pub fn reflect_normalize_f32x8(i: &Lanes8, n: &Lanes8, out: &mut Lanes8) {
+    *out = kernels::reflect_normalize(i, n);
+}
+
+/// Reflects and normalises sixteen rays on explicit AVX-512 lanes, compiled for
+/// AVX-512F whatever the target.
+///
+/// # Safety
+/// Call it only on a CPU with AVX-512F (`vecexpr::simd::Isa::Avx512.is_available()`).
+#[unsafe(no_mangle)]
+#[inline(never)]
+#[target_feature(enable = "avx512f,avx2,fma")]
+pub fn reflect_normalize_f32x16(i: &Lanes16, n: &Lanes16, out: &mut Lanes16) {
+    *out = kernels::reflect_normalize(i, n);
 }
 
 // ----- ray/sphere ------------------------------------------------------------------------

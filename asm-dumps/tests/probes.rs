@@ -106,6 +106,22 @@ fn refract_normalize_and_friends_agree_with_glam() {
     let soa8 = |v: [f32; 3], s: f32| Soa8::from_fn(|k| P8::splat(v[k] * s));
     reflect_normalize_packet8(&soa8(i, 3.0), &soa8(n, 1.0), &mut p8);
     assert!(close([p8[0].lane(7), p8[1].lane(7), p8[2].lane(7)], g));
+    if vecexpr::simd::Isa::Avx2.is_available() {
+        use vecexpr::simd::F32x8;
+        let l8 = |v: [f32; 3], s: f32| Lanes8::from_fn(|k| F32x8::splat(v[k] * s));
+        let mut l = l8([0.0; 3], 0.0);
+        // SAFETY: the CPU has AVX2 and FMA, the probe's target features.
+        unsafe { reflect_normalize_f32x8(&l8(i, 3.0), &l8(n, 1.0), &mut l) };
+        assert!(close([l[0].lane(3), l[1].lane(3), l[2].lane(3)], g));
+    }
+    if vecexpr::simd::Isa::Avx512.is_available() {
+        use vecexpr::simd::F32x16;
+        let l16 = |v: [f32; 3], s: f32| Lanes16::from_fn(|k| F32x16::splat(v[k] * s));
+        let mut l = l16([0.0; 3], 0.0);
+        // SAFETY: the CPU has AVX-512F, the probe's target features.
+        unsafe { reflect_normalize_f32x16(&l16(i, 3.0), &l16(n, 1.0), &mut l) };
+        assert!(close([l[0].lane(11), l[1].lane(11), l[2].lane(11)], g));
+    }
 
     let (a, b) = ([1.0f32, 2.0, 3.0], [-2.0f32, 0.5, 4.0]);
     let mut c = F32x3::zero();

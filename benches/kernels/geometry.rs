@@ -1,14 +1,16 @@
 //! The ray-tracing kernels on 3-vectors: normalize, cross, reflect, refract, and
 //! reflect followed by normalize (the secondary-ray step), for one vector, a batch of
-//! 4096 in AoS form and the same batch as SoA packets.
+//! 4096 in AoS form and the same batch as SoA packets (plain arrays, ultraviolet, and
+//! vecexpr's explicit SIMD lanes).
 
 use crate::{Batch, P16, P8};
 use benches::config::{self, AOS, SOA16, SOA8};
 use benches::data::Pcg32;
 use benches::hand;
-use benches::run::{batch, single, soa};
+use benches::run::{batch, lanes, load3, single, soa, store3};
 use criterion::{Criterion, Throughput};
 use ultraviolet::f32x8;
+use vecexpr::simd::{Isa, Kernel, SimdF32};
 use vecexpr::{Expr, Scalar};
 
 /// Index of refraction ratio used by `refract` (air to glass).
@@ -181,6 +183,49 @@ macro_rules! geometry_group {
                 &n.p16,
                 |$va: &Vector<P16, U3>, $vb| $vx,
             );
+            // The same expression on explicit lanes: the loop over all packets is one
+            // kernel, compiled for AVX2 (`F32x8`) or AVX-512 (`F32x16`) by `dispatch`.
+            struct Lanes<'a> {
+                a: &'a [f32],
+                b: &'a [f32],
+                out: &'a mut [f32],
+            }
+            impl Kernel for Lanes<'_> {
+                type Output = ();
+                #[inline(always)]
+                fn run<S: SimdF32>(self) {
+                    let w = 3 * S::LANES;
+                    let packets = self
+                        .out
+                        .chunks_exact_mut(w)
+                        .zip(self.a.chunks_exact(w).zip(self.b.chunks_exact(w)));
+                    for (o, (x, y)) in packets {
+                        let ($va, $vb) = (&load3::<S>(x), &load3::<S>(y));
+                        let r: Vector<S, U3> = $vx;
+                        store3(r, o);
+                    }
+                }
+            }
+            let run =
+                |isa: Isa, a: &[f32], b: &[f32], out: &mut [f32]| isa.dispatch(Lanes { a, b, out });
+            lanes(
+                &mut g,
+                "vecexpr_f32x8",
+                SOA8,
+                Isa::Avx2,
+                &i.lanes8,
+                &n.lanes8,
+                run,
+            );
+            lanes(
+                &mut g,
+                "vecexpr_f32x16",
+                SOA16,
+                Isa::Avx512,
+                &i.lanes16,
+                &n.lanes16,
+                run,
+            );
             g.finish();
         }
     };
@@ -236,3 +281,77 @@ geometry_group!(reflect_normalize, "reflect_normalize", 8,
     nalgebra: |a, b| (a - b * (2.0 * b.dot(a))).normalize(),
     ultraviolet: |a, b| a.reflected(b).normalized(),
 );
+
+/// The criterion group `normalize_zero_lane`: `normalize` on SoA packets each of which
+/// holds one zero vector (lane 3 of every 8), so vecexpr's robust normalize takes its
+/// rescaling path in every packet. (ultraviolet's unchecked `normalized` gives NaN in
+/// those lanes; it is here for scale.)
+pub fn normalize_zero_lane(c: &mut Criterion) {
+    use ultraviolet::Vec3x8;
+    use vecexpr::{typenum::U3, Vector};
+    let mut g = config::group(c, "normalize_zero_lane");
+    let mut v = Pcg32::new(9).units(config::BATCH);
+    for p in v.chunks_exact_mut(8) {
+        p[3] = [0.0; 3];
+    }
+    let v = Batch::new(v);
+    g.throughput(Throughput::Elements(config::BATCH as u64));
+    batch(
+        &mut g,
+        "vecexpr",
+        SOA8,
+        &v.p8,
+        &v.p8,
+        |a: &Vector<P8, U3>, _| a.normalize(),
+    );
+    batch(
+        &mut g,
+        "ultraviolet",
+        SOA8,
+        &v.uv,
+        &v.uv,
+        |a: &Vec3x8, _| a.normalized(),
+    );
+    batch(
+        &mut g,
+        "vecexpr",
+        SOA16,
+        &v.p16,
+        &v.p16,
+        |a: &Vector<P16, U3>, _| a.normalize(),
+    );
+    struct Lanes<'a> {
+        a: &'a [f32],
+        out: &'a mut [f32],
+    }
+    impl Kernel for Lanes<'_> {
+        type Output = ();
+        #[inline(always)]
+        fn run<S: SimdF32>(self) {
+            let w = 3 * S::LANES;
+            for (o, x) in self.out.chunks_exact_mut(w).zip(self.a.chunks_exact(w)) {
+                store3(load3::<S>(x).normalize(), o);
+            }
+        }
+    }
+    let run = |isa: Isa, a: &[f32], _: &[f32], out: &mut [f32]| isa.dispatch(Lanes { a, out });
+    lanes(
+        &mut g,
+        "vecexpr_f32x8",
+        SOA8,
+        Isa::Avx2,
+        &v.lanes8,
+        &v.lanes8,
+        run,
+    );
+    lanes(
+        &mut g,
+        "vecexpr_f32x16",
+        SOA16,
+        Isa::Avx512,
+        &v.lanes16,
+        &v.lanes16,
+        run,
+    );
+    g.finish();
+}

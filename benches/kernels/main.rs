@@ -5,7 +5,9 @@
 //! Implementation names: `vecexpr` (expression templates), `vecexpr_fma` (the same with
 //! explicit `mul_add`), `eager` (every operator a temporary, `benches::eager`), `hand`
 //! (hand-written loop or formula), `glam_vec3`, `glam_vec3a`, `glam_vec4`, `nalgebra`,
-//! `ultraviolet` (`Vec3x8`, SoA packets of 8). Size labels: `3` and `4` (one vector),
+//! `ultraviolet` (`Vec3x8`, SoA packets of 8), `vecexpr_f32x8` and `vecexpr_f32x16`
+//! (vecexpr on the explicit lane types of `vecexpr::simd`, run through `Isa::dispatch`
+//! with AVX2 and AVX-512 whatever the build target; geometry kernels only). Size labels: `3` and `4` (one vector),
 //! `aos4096` (4096 vectors, array of structures), `soa8x4096` and `soa16x4096` (the same
 //! 4096 as SoA packets), `1K` … `16M` (one long vector of that many `f32`).
 
@@ -42,6 +44,10 @@ struct Batch {
     e8: Vec<Eager<P8, U3>>,
     uv: Vec<Vec3x8>,
     soa: benches::data::Soa,
+    /// Packets of 8 for `vecexpr::simd::F32x8` (`benches::data::aosoa`).
+    lanes8: Vec<f32>,
+    /// Packets of 16 for `vecexpr::simd::F32x16`.
+    lanes16: Vec<f32>,
 }
 
 impl Batch {
@@ -70,6 +76,8 @@ impl Batch {
                 })
                 .collect(),
             soa: benches::data::Soa::from_aos(&arr),
+            lanes8: benches::data::aosoa(&arr, 8),
+            lanes16: benches::data::aosoa(&arr, 16),
             p8,
             arr,
         }
@@ -92,6 +100,7 @@ fn main() {
     geometry::reflect(&mut c);
     geometry::refract(&mut c);
     geometry::reflect_normalize(&mut c);
+    geometry::normalize_zero_lane(&mut c);
     mat3::bench(&mut c);
     c.final_summary();
 }

@@ -101,6 +101,52 @@ impl Soa {
     }
 }
 
+/// `v` as packets of `lanes` 3-vectors in one flat buffer (array of structures of arrays):
+/// packet `p` is `x[0..lanes], y[0..lanes], z[0..lanes]` of vectors `p * lanes ..`, the
+/// memory layout of ultraviolet's `Vec3x8` and of `Vector<F32x8, U3>`. A last partial
+/// packet is dropped.
+pub fn aosoa(v: &[[f32; 3]], lanes: usize) -> Vec<f32> {
+    v.chunks_exact(lanes)
+        .flat_map(|c| (0..3).flat_map(move |k| c.iter().map(move |p| p[k])))
+        .collect()
+}
+
+/// `f32`s whose first element is 64-byte aligned (a cache line, the alignment of an
+/// AVX-512 register), so the packets of [`aosoa`] sit in memory as ultraviolet's
+/// `Vec3x8` (aligned to 32 bytes by its type) and vecexpr's lane types do, and no
+/// register load or store is split across cache lines.
+#[derive(Clone, Debug)]
+pub struct Aligned {
+    buf: Vec<f32>,
+    off: usize,
+    len: usize,
+}
+
+impl Aligned {
+    /// A 64-byte aligned copy of `v`.
+    pub fn new(v: &[f32]) -> Self {
+        let mut buf = vec![0.0f32; v.len() + 16];
+        let off = buf.as_ptr().align_offset(64);
+        assert!(off < 16, "no 64-byte aligned f32 within 16 elements");
+        buf[off..off + v.len()].copy_from_slice(v);
+        Self {
+            buf,
+            off,
+            len: v.len(),
+        }
+    }
+
+    /// The elements.
+    pub fn as_slice(&self) -> &[f32] {
+        &self.buf[self.off..self.off + self.len]
+    }
+
+    /// The elements, mutably.
+    pub fn as_mut_slice(&mut self) -> &mut [f32] {
+        &mut self.buf[self.off..self.off + self.len]
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -119,5 +165,11 @@ mod tests {
         let v = a.vec3s(5);
         let s = Soa::from_aos(&v);
         assert_eq!(s.get(3), v[3]);
+        let p = aosoa(&v, 2);
+        assert_eq!(p.len(), 12);
+        assert_eq!(
+            p[6..12],
+            [v[2][0], v[3][0], v[2][1], v[3][1], v[2][2], v[3][2]]
+        );
     }
 }

@@ -110,7 +110,7 @@ impl Run {
 }
 
 /// Order in which implementations appear as table columns.
-pub const IMPLEMENTATIONS: [&str; 10] = [
+pub const IMPLEMENTATIONS: [&str; 12] = [
     "vecexpr",
     "vecexpr_fma",
     "eager",
@@ -121,6 +121,8 @@ pub const IMPLEMENTATIONS: [&str; 10] = [
     "nalgebra",
     "ultraviolet",
     "ultraviolet_x8",
+    "vecexpr_f32x8",
+    "vecexpr_f32x16",
 ];
 
 /// Order of the size labels.
@@ -353,6 +355,22 @@ pub fn targets(runs: &[Run]) -> String {
                 writeln!(
                     s,
                     "| {t} | reflect+normalize {size}: at least as fast as ultraviolet Vec3x8 | {} vs {} | {} |",
+                    format_ns(v),
+                    format_ns(u),
+                    verdict(v <= u)
+                )
+                .unwrap();
+            }
+        }
+        // The same target for vecexpr on the explicit lane types of `vecexpr::simd`.
+        for (implementation, size) in [
+            ("vecexpr_f32x16", "soa16x4096"),
+            ("vecexpr_f32x8", "soa8x4096"),
+        ] {
+            if let (Some(v), Some(u)) = (r.median("reflect_normalize", implementation, size), uv) {
+                writeln!(
+                    s,
+                    "| {t} | reflect+normalize {size}, {implementation}: at least as fast as ultraviolet Vec3x8 | {} vs {} | {} |",
                     format_ns(v),
                     format_ns(u),
                     verdict(v <= u)

@@ -2,9 +2,13 @@
 //! timed by the same code: inputs `black_box`ed, outputs kept alive.
 
 use crate::config::id;
+use crate::data::Aligned;
 use criterion::measurement::WallTime;
 use criterion::BenchmarkGroup;
 use std::hint::black_box;
+use vecexpr::simd::{Isa, SimdF32};
+use vecexpr::typenum::U3;
+use vecexpr::{vec3, Vector};
 
 /// Latency of one call `f(a, b)` on single values (one 3- or 4-vector).
 pub fn single<T, O>(
@@ -90,4 +94,62 @@ pub fn soa(
             black_box(&mut out);
         })
     });
+}
+
+/// Throughput of a kernel on explicit SIMD lanes (`vecexpr::simd`) over a batch in the
+/// flat packet layout of [`crate::data::aosoa`], run through [`Isa::dispatch`]: `run`
+/// is called with the instruction set and the input and output buffers, and is expected
+/// to dispatch a [`vecexpr::simd::Kernel`] that loops over all packets, so the whole loop
+/// is compiled for that instruction set. The buffers are copied to 64-byte aligned
+/// memory first. Skipped (with a note) where the CPU lacks it.
+pub fn lanes(
+    g: &mut BenchmarkGroup<'_, WallTime>,
+    implementation: &str,
+    size: &str,
+    isa: Isa,
+    a: &[f32],
+    b: &[f32],
+    run: impl Fn(Isa, &[f32], &[f32], &mut [f32]),
+) {
+    if !isa.is_available() {
+        eprintln!("{implementation}/{size}: skipped, this CPU has no {isa}");
+        return;
+    }
+    // Inputs and output 64-byte aligned, as the lane types and ultraviolet's are.
+    let (a, b) = (Aligned::new(a), Aligned::new(b));
+    let (a, b) = (a.as_slice(), b.as_slice());
+    let mut out = Aligned::new(a);
+    g.bench_function(id(implementation, size), |bch| {
+        bch.iter(|| {
+            run(isa, black_box(a), black_box(b), out.as_mut_slice());
+            black_box(&mut out);
+        })
+    });
+}
+
+/// Loads packet `c` (`x`, `y`, `z` lanes one after the other, as [`crate::data::aosoa`]
+/// lays them out) as an SoA 3-vector.
+///
+/// # Panics
+/// If `c` is shorter than three registers.
+#[inline(always)]
+pub fn load3<S: SimdF32>(c: &[f32]) -> Vector<S, U3> {
+    let n = S::LANES;
+    vec3(
+        S::load(&c[..n]),
+        S::load(&c[n..2 * n]),
+        S::load(&c[2 * n..3 * n]),
+    )
+}
+
+/// Stores an SoA 3-vector into packet `c`, the inverse of [`load3`].
+///
+/// # Panics
+/// If `c` is shorter than three registers.
+#[inline(always)]
+pub fn store3<S: SimdF32>(v: Vector<S, U3>, c: &mut [f32]) {
+    let n = S::LANES;
+    v[0].store(&mut c[..n]);
+    v[1].store(&mut c[n..2 * n]);
+    v[2].store(&mut c[2 * n..3 * n]);
 }

@@ -20,18 +20,39 @@ pub(crate) fn normalize<T: Scalar, N: ArrayLength>(v: Vector<T, N>) -> Vector<T,
     // Fast path: the squared length is a normal, finite number in every lane.
     let min = T::splat(<T::Elem as Real>::MIN_POSITIVE);
     let max = T::splat(<T::Elem as Real>::MAX);
-    if l2.ge(min).and(l2.le(max)).all() {
+    let fast = l2.ge(min).and(l2.le(max));
+    if T::INLINE_SLOW_PATHS {
+        // Explicit SIMD lanes: the slow path stays in the caller (compiled for its
+        // instruction set) and replaces only the lanes that need it, so every lane is
+        // what the scalar `normalize` gives for that lane's vector.
+        let unit = (&v).scale(l2.sqrt().recip()).eval();
+        if fast.all() {
+            return unit;
+        }
+        let mut out = rescale(v, l2);
+        for (o, &u) in out.iter_mut().zip(unit.iter()) {
+            *o = T::select(fast, u, *o);
+        }
+        return out;
+    }
+    if fast.all() {
         return (&v).scale(l2.sqrt().recip()).eval();
     }
     normalize_rescaled(v, l2)
 }
 
-/// Slow path of [`normalize`]: divide by the largest magnitude first so the squared
-/// length lies in $[1, N]$, then normalise. Lanes whose largest magnitude is zero give
-/// zero.
+/// Slow path of [`normalize`], out of line for the whole value.
 #[cold]
 #[inline(never)]
 fn normalize_rescaled<T: Scalar, N: ArrayLength>(v: Vector<T, N>, l2: T) -> Vector<T, N> {
+    rescale(v, l2)
+}
+
+/// The rescaling of [`normalize`]: divide by the largest magnitude first so the squared
+/// length lies in $[1, N]$, then normalise. Lanes whose largest magnitude is zero give
+/// zero.
+#[inline(always)]
+fn rescale<T: Scalar, N: ArrayLength>(v: Vector<T, N>, l2: T) -> Vector<T, N> {
     let m = (&v).abs().max_element();
     let zero = T::zero();
     // A NaN component makes l2 NaN but may be skipped by max; keep it NaN.

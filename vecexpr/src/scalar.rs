@@ -40,6 +40,14 @@ pub trait Scalar:
     type Mask: Mask;
     /// Number of lanes (1 for plain floats).
     const LANES: usize;
+    /// Whether kernels with a rare slow path (the rescaling of
+    /// [`Expr::normalize`](crate::Expr::normalize)) compute it inline, selecting its
+    /// result lane by lane, instead of calling an out-of-line cold function for the whole
+    /// value. `false` by default; the explicit SIMD lane types of [`crate::simd`] set it,
+    /// because their operations compile to single instructions only when inlined into a
+    /// function compiled for their instruction set: an out-of-line slow path would run
+    /// every lane operation as a call.
+    const INLINE_SLOW_PATHS: bool = false;
 
     /// Every lane set to `x`.
     fn splat(x: Self::Elem) -> Self;

@@ -137,6 +137,8 @@ impl Scalar for F32x8 {
     type Elem = f32;
     type Mask = M32x8;
     const LANES: usize = 8;
+    // The slow path of `normalize` stays inside the caller's instruction set.
+    const INLINE_SLOW_PATHS: bool = true;
 
     #[inline(always)]
     fn splat(x: f32) -> Self {

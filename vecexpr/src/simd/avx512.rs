@@ -131,6 +131,8 @@ impl Scalar for F32x16 {
     type Elem = f32;
     type Mask = M32x16;
     const LANES: usize = 16;
+    // The slow path of `normalize` stays inside the caller's instruction set.
+    const INLINE_SLOW_PATHS: bool = true;
 
     #[inline(always)]
     fn splat(x: f32) -> Self {

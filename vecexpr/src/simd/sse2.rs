@@ -122,6 +122,8 @@ impl Scalar for F32x4 {
     type Elem = f32;
     type Mask = M32x4;
     const LANES: usize = 4;
+    // The slow path of `normalize` stays inside the caller's instruction set.
+    const INLINE_SLOW_PATHS: bool = true;
 
     #[inline(always)]
     fn splat(x: f32) -> Self {

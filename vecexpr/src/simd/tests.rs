@@ -220,14 +220,8 @@ impl Kernel for CheckVectors {
             let norm = pa.normalize();
             let sel = select(pa.lt(&pb), &pa, &pb).eval();
             let len = pb.length();
-            // `normalize` takes its rescaling slow path for the whole packet when any
-            // lane's squared length is not a normal number, and that path rounds
-            // differently from the fast one: compare only packets on the fast path.
-            let l2 = pa.length_squared();
-            let fast = (0..n).all(|i| {
-                let x = l2.lane(i);
-                (f32::MIN_POSITIVE..=f32::MAX).contains(&x)
-            });
+            // `normalize` rescales only the lanes whose squared length is not a normal
+            // number, so every lane is the scalar result, on either path.
             for i in 0..n {
                 let a = vec3(comps[0][i], comps[1][i], comps[2][i]);
                 let b = vec3(comps[3][i], comps[4][i], comps[5][i]);
@@ -238,9 +232,7 @@ impl Kernel for CheckVectors {
                 for k in 0..3 {
                     assert!(same(cross[k].lane(i), c[k]), "{:?} cross", S::ISA);
                     assert!(same(expr[k].lane(i), e[k]), "{:?} expression", S::ISA);
-                    if fast {
-                        assert!(same(norm[k].lane(i), nm[k]), "{:?} normalize", S::ISA);
-                    }
+                    assert!(same(norm[k].lane(i), nm[k]), "{:?} normalize", S::ISA);
                     let s = if a[k] < b[k] { a[k] } else { b[k] };
                     assert!(same(sel[k].lane(i), s), "{:?} select", S::ISA);
                 }
@@ -250,12 +242,94 @@ impl Kernel for CheckVectors {
     }
 }
 
+/// `normalize` on packets that mix ordinary vectors with ones that need the rescaling
+/// path (zero, tiny, huge, subnormal) or give NaN (infinite, NaN components): every lane,
+/// ordinary ones included, is bit for bit the scalar `normalize` of that lane's vector,
+/// and the rescaling runs inside the dispatched function (`INLINE_SLOW_PATHS`).
+struct CheckNormalizeSlowPath;
+
+impl Kernel for CheckNormalizeSlowPath {
+    type Output = usize;
+    fn run<S: SimdF32>(self) -> usize {
+        assert!(S::INLINE_SLOW_PATHS && !<f32 as Scalar>::INLINE_SLOW_PATHS);
+        let n = S::LANES;
+        let odd: [[f32; 3]; 8] = [
+            [0.0, 0.0, 0.0],
+            [-0.0, 0.0, -0.0],
+            [1.0e-30, 0.0, -2.0e-30],
+            [3.0e30, -1.0e30, 2.0e30],
+            [f32::from_bits(1), 0.0, f32::from_bits(3)],
+            [f32::MAX, f32::MAX, 1.0],
+            [f32::INFINITY, 1.0, 0.0],
+            [f32::NAN, 0.0, 1.0],
+        ];
+        let mut state = 0x2545_f491u32;
+        let mut slow_packets = 0;
+        for round in 0..64 {
+            // Lane i is odd vector `(i + round) % 8` where bit i of the round's pattern is
+            // set, an ordinary random vector otherwise; round 0 is all ordinary.
+            let pattern = if round == 0 {
+                0
+            } else {
+                state ^= state << 13;
+                state ^= state >> 17;
+                state ^= state << 5;
+                state | 1
+            };
+            let v: Vec<[f32; 3]> = (0..n)
+                .map(|i| {
+                    if pattern >> (i % 32) & 1 != 0 {
+                        odd[(i + round) % odd.len()]
+                    } else {
+                        // Components of moderate magnitude: a normal squared length.
+                        [0, 1, 2].map(|_| {
+                            let x = rnd(&mut state);
+                            if (1.0e-3..1.0e3).contains(&x.abs()) {
+                                x
+                            } else {
+                                -0.75
+                            }
+                        })
+                    }
+                })
+                .collect();
+            let comp = |k: usize| -> Vec<f32> { v.iter().map(|p| p[k]).collect() };
+            let p: Vec3<S> = vec3(S::load(&comp(0)), S::load(&comp(1)), S::load(&comp(2)));
+            let l2 = p.length_squared();
+            let needs_slow = (0..n).any(|i| !(f32::MIN_POSITIVE..=f32::MAX).contains(&l2.lane(i)));
+            slow_packets += usize::from(needs_slow);
+            let got = p.normalize();
+            for (i, w) in v.iter().enumerate() {
+                let want = vec3(w[0], w[1], w[2]).normalize();
+                for k in 0..3 {
+                    assert!(
+                        same(got[k].lane(i), want[k]),
+                        "{:?} normalize {w:?} lane {i}: {} vs scalar {}",
+                        S::ISA,
+                        got[k].lane(i),
+                        want[k]
+                    );
+                }
+            }
+        }
+        slow_packets
+    }
+}
+
 #[test]
 fn lane_ops_match_scalar_for_every_available_isa() {
     assert!(Isa::Sse2.is_available());
     for isa in Isa::available() {
         assert_eq!(isa.dispatch(CheckOps), 300, "{isa}");
         isa.dispatch(CheckVectors);
+    }
+}
+
+#[test]
+fn normalize_rescales_only_the_lanes_that_need_it() {
+    for isa in Isa::available() {
+        // Every round but the first has at least one odd lane.
+        assert_eq!(isa.dispatch(CheckNormalizeSlowPath), 63, "{isa}");
     }
 }
 
