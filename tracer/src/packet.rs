@@ -299,6 +299,15 @@ pub(crate) fn eye_block<T: Real>(
     (same_type(rays).expect(F32), same_type(hits).expect(F32))
 }
 
+/// Are the shadow rays of eye hits traced in packets ([`shadow_block`]) for `scene`?
+/// When it has no cones: the packet kernels test spheres and triangles, while each ray
+/// of a packet meets a cone alone, over the binary tree and without the shadow cache
+/// of single rays, which measured slower on rings-s7 (4,200 cylinders; see
+/// `tracer/RESULTS.md`, "Packets on triangle scenes and shadow packets").
+pub(crate) fn shadow_packets<T: Real>(scene: &Scene<T>) -> bool {
+    scene.geometry.kinds() & crate::geometry::kinds::CONES == 0
+}
+
 /// Lights whose shadow rays of eye hits are traced in packets ([`shadow_block`]); the
 /// shadow rays toward further lights stay single.
 pub(crate) const PACKET_LIGHTS: usize = 64;

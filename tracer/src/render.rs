@@ -12,7 +12,7 @@ use crate::arith::Arith;
 use crate::effects::{self, has, EffectChoice, EffectFn, EffectSet, EffectsMode, SUPERSAMPLING};
 use crate::image::Image;
 use crate::packet::{
-    block_shape, eye_block, packet_isa, shadow_block, EyeGrid, Packets, MAX_LANES,
+    block_shape, eye_block, packet_isa, shadow_block, shadow_packets, EyeGrid, Packets, MAX_LANES,
 };
 use crate::ray::Ray;
 use crate::shade::{trace_fx, TraceLimits};
@@ -334,7 +334,7 @@ fn eye_packet<T: Real, const FX: u32>(
 ) {
     let (rays, hits) = eye_block(scene, cam, isa, grid, size, block);
     // The shadow rays of the eye hits, toward one light at a time, as packets too.
-    let blocked = if crate::effects::has(FX, crate::effects::SHADOWS) {
+    let blocked = if crate::effects::has(FX, crate::effects::SHADOWS) && shadow_packets(scene) {
         Some(shadow_block(scene, isa, limits, &rays, &hits))
     } else {
         None
