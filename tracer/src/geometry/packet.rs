@@ -18,6 +18,9 @@
 //! or as close and earlier in the input), which makes the result independent of the
 //! order the primitives are met in; the hit record is then filled in by the single-ray
 //! code.
+//!
+//! The any-hit query of a packet (shadow rays) uses the same kernels: a ray leaves the
+//! packet at its first hit, and the walk ends when every ray is blocked.
 
 use super::ray_data::RayData;
 use super::storage::{make_ref, INDEX_MASK, PLANE, SPHERE, TAG_SHIFT, TRIANGLE};
@@ -41,6 +44,7 @@ struct PacketData<S: SimdF32> {
     shear: Option<PacketShear<S>>,
 }
 
+/// The watertight shear of a packet whose rays share their axes.
 ///
 /// The origin is kept in the sheared axis order too, so a triangle test picks its
 /// vertex coordinates by axis from memory (scalars, before the splat) and never indexes
@@ -120,8 +124,6 @@ fn triangle_packet<S: SimdF32>(
     s: &PacketShear<S>,
     t_max: S,
 ) -> TriangleLanes<S> {
-    // Vertex `i` relative to the origins, in the sheared axis order: lane by lane the
-    // single-ray test's `a[kx]`, `a[ky]`, `a[kz]`.
     let (a, b, c) = (rel(&tri.v[0], s), rel(&tri.v[1], s), rel(&tri.v[2], s));
     let (ax, ay) = (a[0] - s.sx * a[2], a[1] - s.sy * a[2]);
     let (bx, by) = (b[0] - s.sx * b[2], b[1] - s.sy * b[2]);
