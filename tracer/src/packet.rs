@@ -213,14 +213,48 @@ fn trace_block(
     out
 }
 
+/// Runs [`Geometry::occluded_packet`] on one packet.
+struct ShadowKernel<'a> {
+    geometry: &'a Geometry<f32>,
+    rays: &'a [Option<Ray<f32>>; MAX_LANES],
+    out: &'a mut [bool; MAX_LANES],
+}
+
+impl Kernel for ShadowKernel<'_> {
+    type Output = ();
+    #[inline(always)]
+    fn run<S: SimdF32>(self) {
+        self.geometry.occluded_packet::<S>(self.rays, self.out);
+    }
+}
+
+/// Is each ray of one packet blocked, traced with `isa`.
+#[inline]
+fn shadow_packet(
+    geometry: &Geometry<f32>,
+    isa: Isa,
+    rays: &[Option<Ray<f32>>; MAX_LANES],
+) -> [bool; MAX_LANES] {
+    let mut out = [false; MAX_LANES];
+    dispatch(
+        isa,
+        ShadowKernel {
+            geometry,
+            rays,
+            out: &mut out,
+        },
+    );
+    out
+}
+
 #[cfg(target_arch = "x86_64")]
 #[inline]
-fn dispatch(isa: Isa, kernel: EyeKernel<'_>) {
-    isa.dispatch(kernel);
+fn dispatch<K: Kernel>(isa: Isa, kernel: K) -> K::Output {
+    isa.dispatch(kernel)
 }
 
 #[cfg(not(target_arch = "x86_64"))]
-fn dispatch(_isa: Isa, _kernel: EyeKernel<'_>) {
+fn dispatch<K: Kernel>(_isa: Isa, _kernel: K) -> K::Output {
     unreachable!("no SIMD instruction set off x86-64, so no packets");
 }
 
@@ -265,7 +299,88 @@ pub(crate) fn eye_block<T: Real>(
     (same_type(rays).expect(F32), same_type(hits).expect(F32))
 }
 
+/// Are the shadow rays of eye hits traced in packets ([`shadow_block`]) for `scene`?
+/// When it has no cones: the packet kernels test spheres and triangles, while each ray
+/// of a packet meets a cone alone, over the binary tree and without the shadow cache
+/// of single rays, which measured slower on rings-s7 (4,200 cylinders; see
+/// `tracer/RESULTS.md`, "Packets on triangle scenes and shadow packets").
+pub(crate) fn shadow_packets<T: Real>(scene: &Scene<T>) -> bool {
+    scene.geometry.kinds() & crate::geometry::kinds::CONES == 0
+}
+
+/// Lights whose shadow rays of eye hits are traced in packets ([`shadow_block`]); the
+/// shadow rays toward further lights stay single.
+pub(crate) const PACKET_LIGHTS: usize = 64;
+
+/// For each lane of a block of eye rays and their hits (as [`eye_block`] returns them),
+/// the lights whose shadow ray from the hit is blocked, bit `li` for light `li` (the
+/// first [`PACKET_LIGHTS`] lights): the shadow rays of the block toward one light, as
+/// shading builds them ([`crate::shade::shadow_rays`]), are traced as one any-hit packet
+/// of `isa`. Bits of lights a lane casts no shadow ray to are clear.
+///
+/// # Panics
+/// If `T` is not `f32` (see [`packet_isa`]) or the CPU lacks `isa`.
+pub(crate) fn shadow_block<T: Real>(
+    scene: &Scene<T>,
+    isa: Isa,
+    limits: &crate::shade::TraceLimits<T>,
+    rays: &[Option<Ray<T>>; MAX_LANES],
+    hits: &[Option<Hit<T>>; MAX_LANES],
+) -> [u64; MAX_LANES] {
+    const F32: &str = "packets trace f32 scenes only";
+    let mut blocked = [0u64; MAX_LANES];
+    let lights = scene.lights.len().min(PACKET_LIGHTS);
+    if lights == 0 {
+        return blocked;
+    }
+    let geometry = &(scene as &dyn Any)
+        .downcast_ref::<Scene<f32>>()
+        .expect(F32)
+        .geometry;
+    let starts: [Option<_>; MAX_LANES] = core::array::from_fn(|l| match (&rays[l], &hits[l]) {
+        (Some(ray), Some(hit)) => Some((hit, crate::shade::shadow_start(ray, hit))),
+        _ => None,
+    });
+    for (li, light) in scene.lights.iter().enumerate().take(lights) {
+        let mut packet = [None; MAX_LANES];
+        let mut any = false;
+        for (p, s) in packet.iter_mut().zip(&starts) {
+            if let Some((hit, start)) = s {
+                if let Some(r) = crate::shade::shadow_ray(light, hit, start, limits) {
+                    let r = (&r as &dyn Any).downcast_ref::<Ray<f32>>().expect(F32);
+                    *p = Some(*r);
+                    any = true;
+                }
+            }
+        }
+        if !any {
+            continue;
+        }
+        let b = shadow_packet(geometry, isa, &packet);
+        for (m, &b) in blocked.iter_mut().zip(&b) {
+            *m |= u64::from(b) << li;
+        }
+    }
+    blocked
+}
+
 impl Scene<f32> {
+    /// Whether each of the first [`Isa::lanes`] rays of `rays` is blocked (`None` lanes
+    /// are `false`), traced together as one any-hit packet by the kernel of `isa`; the
+    /// rest of the result is `false`. Lane `i` is what [`crate::geometry::Geometry::occluded`]
+    /// returns for `rays[i]`. Pays off for coherent rays, such as the shadow rays of
+    /// neighbouring eye hits toward one light.
+    ///
+    /// # Panics
+    /// If the CPU lacks `isa` ([`Isa::is_available`]) or off x86-64.
+    pub fn occluded_packet(
+        &self,
+        isa: Isa,
+        rays: &[Option<Ray<f32>>; MAX_LANES],
+    ) -> [bool; MAX_LANES] {
+        shadow_packet(&self.geometry, isa, rays)
+    }
+
     /// The closest hits of the first [`Isa::lanes`] rays of `rays` (`None` lanes are
     /// skipped), traced together as one packet by the kernel of `isa`; the rest of the
     /// result is `None`. Lane `i` is bit for bit what [`Scene::intersect`] returns for

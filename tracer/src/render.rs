@@ -11,7 +11,9 @@
 use crate::arith::Arith;
 use crate::effects::{self, has, EffectChoice, EffectFn, EffectSet, EffectsMode, SUPERSAMPLING};
 use crate::image::Image;
-use crate::packet::{block_shape, eye_block, packet_isa, EyeGrid, Packets, MAX_LANES};
+use crate::packet::{
+    block_shape, eye_block, packet_isa, shadow_block, shadow_packets, EyeGrid, Packets, MAX_LANES,
+};
 use crate::ray::Ray;
 use crate::shade::{trace_fx, TraceLimits};
 use crate::stats::RayCounts;
@@ -314,8 +316,9 @@ fn eye_sample<T: Real, const FX: u32>(
 }
 
 /// The radiance of each eye ray of one packet of block `(bx, by)` of a `w` x `h` grid,
-/// traced together ([`eye_block`]) and shaded one by one as [`eye_sample`] shades them;
-/// `put(lane, radiance)` for each lane with a ray.
+/// traced together ([`eye_block`]), with the shadow rays of their hits traced as one
+/// packet per light ([`shadow_block`]), and shaded one by one as [`eye_sample`] shades
+/// them; `put(lane, radiance)` for each lane with a ray.
 #[allow(clippy::too_many_arguments)]
 #[inline]
 fn eye_packet<T: Real, const FX: u32>(
@@ -330,14 +333,23 @@ fn eye_packet<T: Real, const FX: u32>(
     mut put: impl FnMut(usize, Vec3<T>),
 ) {
     let (rays, hits) = eye_block(scene, cam, isa, grid, size, block);
+    // The shadow rays of the eye hits, toward one light at a time, as packets too.
+    let blocked = if crate::effects::has(FX, crate::effects::SHADOWS) && shadow_packets(scene) {
+        Some(shadow_block(scene, isa, limits, &rays, &hits))
+    } else {
+        None
+    };
     for (l, (ray, hit)) in rays.iter().zip(&hits).enumerate() {
         let Some(ray) = ray else { continue };
         counts.eye += 1;
-        let c = match hit {
-            Some(hit) => {
+        let c = match (hit, &blocked) {
+            (Some(hit), Some(b)) => {
+                crate::shade::shade_eye_lit::<T, FX>(scene, ray, hit, limits, counts, b[l])
+            }
+            (Some(hit), None) => {
                 crate::shade::shade_fx::<T, FX>(scene, ray, hit, 1, T::ONE, limits, counts)
             }
-            None => scene.background,
+            (None, _) => scene.background,
         };
         put(l, c);
     }

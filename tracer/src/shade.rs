@@ -90,18 +90,121 @@ pub fn shade_fx<T: Real, const FX: u32>(
     limits: &TraceLimits<T>,
     counts: &mut RayCounts,
 ) -> Vec3<T> {
-    let m = &scene.materials[hit.material as usize];
-    let d = &ray.dir;
-    // Face the normals toward the incoming ray: every surface is two-sided.
+    shade_lit::<T, FX>(
+        scene,
+        ray,
+        hit,
+        depth,
+        weight,
+        limits,
+        counts,
+        |li, shadow| occluded_cached::<T, FX>(scene, shadow, depth, li),
+    )
+}
+
+/// [`shade_fx`] for an eye ray (depth 1) whose shadow rays toward the first 64 lights
+/// were already cast, built by [`shadow_ray`] and traced as packets: bit `li` of `blocked` says
+/// whether the shadow ray toward light `li` is blocked (read only for the lights the
+/// shading casts a shadow ray to). Further lights are queried as in `shade_fx`. Returns
+/// what `shade_fx` returns and counts the same rays.
+pub(crate) fn shade_eye_lit<T: Real, const FX: u32>(
+    scene: &Scene<T>,
+    ray: &Ray<T>,
+    hit: &Hit<T>,
+    limits: &TraceLimits<T>,
+    counts: &mut RayCounts,
+    blocked: u64,
+) -> Vec3<T> {
+    shade_lit::<T, FX>(scene, ray, hit, 1, T::ONE, limits, counts, |li, shadow| {
+        if li < 64 {
+            blocked >> li & 1 != 0
+        } else {
+            occluded_cached::<T, FX>(scene, shadow, 1, li)
+        }
+    })
+}
+
+/// The geometric and shading normals at `hit` faced toward the incoming direction `d`,
+/// and whether the ray enters the surface.
+#[inline(always)]
+fn facing<T: Real>(hit: &Hit<T>, d: &Vec3<T>) -> (bool, Vec3<T>, Vec3<T>) {
+    // Every surface is two-sided.
     let entering = hit.geometric_normal.dot(d) < T::ZERO;
-    let (ng, ns) = if entering {
-        (hit.geometric_normal, hit.shading_normal)
+    if entering {
+        (entering, hit.geometric_normal, hit.shading_normal)
     } else {
         (
+            entering,
             (-&hit.geometric_normal).eval(),
             (-&hit.shading_normal).eval(),
         )
+    }
+}
+
+/// The shadow ray from `above` (the offset hit point) toward `light` and the unit
+/// direction to the light, or `None` when shading casts none: a light without
+/// intensity, at the point itself, or behind the surface of (faced) normal `ng`.
+#[inline(always)]
+fn light_ray<T: Real>(
+    light: &crate::world::Light<T>,
+    p: &Vec3<T>,
+    ng: &Vec3<T>,
+    above: &Vec3<T>,
+    ar: &Arith,
+) -> Option<(Ray<T>, Vec3<T>)> {
+    if light.intensity.max_element() <= T::ZERO {
+        return None;
+    }
+    let to_light = (&light.position - p).eval();
+    let (l, dist) = ar.unit_and_length(&to_light);
+    if dist.is_nan() || dist <= T::ZERO || ng.dot(&l) <= T::ZERO {
+        return None;
+    }
+    let shadow = Ray {
+        t_max: dist,
+        ..Ray::new(*above, l)
     };
+    Some((shadow, l))
+}
+
+/// Where the shading of `ray` at `hit` starts its shadow rays: the geometric normal
+/// faced toward the ray, and the hit point offset along it.
+#[inline]
+pub(crate) fn shadow_start<T: Real>(ray: &Ray<T>, hit: &Hit<T>) -> (Vec3<T>, Vec3<T>) {
+    let (_, ng, _) = facing(hit, &ray.dir);
+    let above = offset_ray(&hit.point, &ng, &ng);
+    (ng, above)
+}
+
+/// The shadow ray the shading at `hit` casts toward `light`, from `start`
+/// ([`shadow_start`]), exactly as [`shade_fx`] builds it; `None` when it casts none.
+#[inline]
+pub(crate) fn shadow_ray<T: Real>(
+    light: &crate::world::Light<T>,
+    hit: &Hit<T>,
+    (ng, above): &(Vec3<T>, Vec3<T>),
+    limits: &TraceLimits<T>,
+) -> Option<Ray<T>> {
+    light_ray(light, &hit.point, ng, above, &limits.arith).map(|(r, _)| r)
+}
+
+/// The body of [`shade_fx`], with `blocked(light, shadow_ray)` answering whether each
+/// shadow ray is blocked.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn shade_lit<T: Real, const FX: u32>(
+    scene: &Scene<T>,
+    ray: &Ray<T>,
+    hit: &Hit<T>,
+    depth: u32,
+    weight: T,
+    limits: &TraceLimits<T>,
+    counts: &mut RayCounts,
+    mut blocked: impl FnMut(usize, &Ray<T>) -> bool,
+) -> Vec3<T> {
+    let m = &scene.materials[hit.material as usize];
+    let d = &ray.dir;
+    let (entering, ng, ns) = facing(hit, d);
     let p = &hit.point;
     let v = (-d).eval();
     let ar = &limits.arith;
@@ -113,25 +216,13 @@ pub fn shade_fx<T: Real, const FX: u32>(
     let above = offset_ray(p, &ng, &ng);
     if has(FX, SHADOWS) {
         for (li, light) in scene.lights.iter().enumerate() {
-            // No shadow ray toward a light without intensity...
-            if light.intensity.max_element() <= T::ZERO {
+            // No shadow ray toward a light without intensity, at the point, or behind
+            // the surface.
+            let Some((shadow, l)) = light_ray(light, p, &ng, &above, ar) else {
                 continue;
-            }
-            let to_light = (&light.position - p).eval();
-            let (l, dist) = ar.unit_and_length(&to_light);
-            if dist.is_nan() || dist <= T::ZERO {
-                continue;
-            }
-            // ... or behind the surface.
-            if ng.dot(&l) <= T::ZERO {
-                continue;
-            }
-            counts.shadow += 1;
-            let shadow = Ray {
-                t_max: dist,
-                ..Ray::new(above, l)
             };
-            if occluded_cached::<T, FX>(scene, &shadow, depth, li) {
+            counts.shadow += 1;
+            if blocked(li, &shadow) {
                 continue;
             }
             let ndotl = ar.dot(&ns, &l).max(T::ZERO);

@@ -1,5 +1,6 @@
-//! Eye rays traced in SIMD packets give the single-ray hits bit for bit, so images are
-//! identical with packets on or off and for every instruction set the CPU has.
+//! Eye rays traced in SIMD packets give the single-ray hits bit for bit, and shadow rays
+//! traced as any-hit packets the single-ray answers, so images are identical with
+//! packets on or off and for every instruction set the CPU has.
 #![cfg(target_arch = "x86_64")]
 
 use std::path::Path;
@@ -8,6 +9,7 @@ use tracer::packet::{EyePackets, Packets};
 use tracer::render::{render_with_stats, Settings};
 use tracer::{Hit, Ray, Scene};
 use vecexpr::simd::Isa;
+use vecexpr::Expr;
 
 /// Every scene shipped in `tracer/scenes`.
 fn shipped() -> Vec<String> {
@@ -72,6 +74,129 @@ fn packet_hits_are_the_single_ray_hits() {
                 }
             }
             assert!(hits > 0, "{name}: nothing hit");
+        }
+    }
+}
+
+/// The shadow rays of the eye hits of a `w` x `h` image toward each light, from the
+/// offset hit point, in 4x4 pixel blocks (one packet of sixteen per block and light),
+/// plus rays toward a point just off each hit (a short `t_max`) and rays in a fixed
+/// scatter of directions (lanes with different watertight shear axes); every fifth
+/// lane of the scattered rays is left empty.
+fn shadow_packets(s: &Scene<f32>, w: usize, h: usize) -> Vec<[Option<Ray<f32>>; 16]> {
+    let cam = s.camera_for(w as u32, h as u32);
+    let mut packets = Vec::new();
+    for by in (0..h).step_by(4) {
+        for bx in (0..w).step_by(4) {
+            let hits: Vec<Option<Hit<f32>>> = (0..16)
+                .map(|k| {
+                    let (x, y) = (bx + k % 4, by + k / 4);
+                    let (px, py) = (x as f32 + 0.5, y as f32 + 0.5);
+                    (x < w && y < h)
+                        .then(|| s.intersect(&Ray::new(cam.position, cam.direction(px, py))))
+                        .flatten()
+                })
+                .collect();
+            let above = |h: &Hit<f32>| {
+                let n = h.geometric_normal;
+                vecexpr::vec3(
+                    h.point[0] + 1e-3 * n[0],
+                    h.point[1] + 1e-3 * n[1],
+                    h.point[2] + 1e-3 * n[2],
+                )
+            };
+            for light in &s.lights {
+                packets.push(core::array::from_fn(|k| {
+                    hits[k].as_ref().map(|h| {
+                        let p = above(h);
+                        let d = vecexpr::vec3(
+                            light.position[0] - p[0],
+                            light.position[1] - p[1],
+                            light.position[2] - p[2],
+                        );
+                        Ray {
+                            t_max: 1.0,
+                            ..Ray::new(p, d)
+                        }
+                    })
+                }));
+            }
+            packets.push(core::array::from_fn(|k| {
+                hits[k].as_ref().map(|h| Ray {
+                    t_max: 1e-4,
+                    ..Ray::new(above(h), (cam.position - h.point).eval())
+                })
+            }));
+            packets.push(core::array::from_fn(|k| {
+                hits[k].as_ref().filter(|_| k % 5 != 4).map(|h| {
+                    let f = k as f32;
+                    let d = vecexpr::vec3((f * 1.7).sin(), (f * 2.3).cos(), (f * 0.9).sin());
+                    Ray::new(above(h), d)
+                })
+            }));
+        }
+    }
+    packets
+}
+
+#[test]
+fn packet_shadow_rays_are_the_single_ray_answers() {
+    let (mut blocked, mut free) = (0, 0);
+    for name in shipped() {
+        let s = scene(&name, &AccelOptions::default());
+        let packets = shadow_packets(&s, 23, 19);
+        for isa in Isa::available() {
+            for (k, rays) in packets.iter().enumerate() {
+                let got = s.occluded_packet(isa, rays);
+                for (l, r) in rays.iter().enumerate() {
+                    let want =
+                        l < isa.lanes() && r.as_ref().is_some_and(|r| s.geometry.occluded(r));
+                    assert_eq!(got[l], want, "{name} {isa} packet {k} lane {l}: {r:?}");
+                    if l < isa.lanes() && r.is_some() {
+                        if want {
+                            blocked += 1;
+                        } else {
+                            free += 1;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    assert!(
+        blocked > 1000 && free > 1000,
+        "blocked {blocked}, free {free}"
+    );
+}
+
+#[test]
+fn packet_shadow_fallbacks_are_the_single_ray_answers() {
+    // Möller–Trumbore and brute force answer each ray alone; the binary tree is the
+    // one packets walk.
+    for accel in [
+        AccelOptions {
+            triangle: TriangleTest::MollerTrumbore,
+            ..AccelOptions::default()
+        },
+        AccelOptions {
+            use_bvh: false,
+            ..AccelOptions::default()
+        },
+        AccelOptions {
+            wide: false,
+            ..AccelOptions::default()
+        },
+    ] {
+        let s = scene("showcase.nff", &accel);
+        for isa in Isa::available() {
+            for rays in shadow_packets(&s, 12, 8) {
+                let got = s.occluded_packet(isa, &rays);
+                for (l, r) in rays.iter().enumerate() {
+                    let want =
+                        l < isa.lanes() && r.as_ref().is_some_and(|r| s.geometry.occluded(r));
+                    assert_eq!(got[l], want, "{accel:?} {isa} lane {l}");
+                }
+            }
         }
     }
 }

@@ -57,10 +57,21 @@ impl<S: SimdF32> PacketRay<S> {
             }
             buf[6][i] = r.t_min;
         }
-        let inv_dir = [S::load(&buf[3]), S::load(&buf[4]), S::load(&buf[5])];
+        Some(Self::from_lanes(
+            [S::load(&buf[0]), S::load(&buf[1]), S::load(&buf[2])],
+            [S::load(&buf[3]), S::load(&buf[4]), S::load(&buf[5])],
+            S::load(&buf[6]),
+            first.slack,
+        ))
+    }
+
+    /// The packet of the rays whose [`TraversalRay`] fields are, lane by lane, `origin`,
+    /// `inv_dir` and `t_min`, with the slack factor `slack` of every [`TraversalRay`].
+    #[inline(always)]
+    pub fn from_lanes(origin: [S; 3], inv_dir: [S; 3], t_min: S, slack: f32) -> Self {
         let zero = S::zero();
-        Some(Self {
-            origin: [S::load(&buf[0]), S::load(&buf[1]), S::load(&buf[2])],
+        Self {
+            origin,
             inv_dir,
             // As `TraversalRay::new`: 1/-0 = -inf picks `hi` as the near plane too.
             neg: [
@@ -68,9 +79,9 @@ impl<S: SimdF32> PacketRay<S> {
                 inv_dir[1].lt(zero),
                 inv_dir[2].lt(zero),
             ],
-            t_min: S::load(&buf[6]),
-            slack: S::splat(first.slack),
-        })
+            t_min,
+            slack: S::splat(slack),
+        }
     }
 
     /// [`TraversalRay::hit_box`] in every lane: which lanes overlap the box within
@@ -100,15 +111,17 @@ const STACK_SIZE: usize = super::build::MAX_DEPTH;
 impl Bvh {
     /// Walks the binary tree with a packet: calls `leaf(refs, mask, t_max)` for each leaf
     /// whose box some active ray overlaps before its `t_max`, with the mask of those
-    /// rays; `leaf` returns the rays' new `t_max` (their closest hits so far). Rays
-    /// outside `active` never take part. Returns the final `t_max`.
+    /// rays; `leaf` returns the rays' new `t_max` (their closest hits so far; a lane set
+    /// to $-\infty$ leaves the traversal), or `None` to end the traversal (every ray is
+    /// done, as for an any-hit query whose rays are all blocked). Rays outside `active`
+    /// never take part. Returns the final `t_max`.
     #[inline(always)]
     pub fn traverse_packet<S: SimdF32>(
         &self,
         ray: &PacketRay<S>,
         active: S::Mask,
         mut t_max: S,
-        mut leaf: impl FnMut(&[u32], S::Mask, S) -> S,
+        mut leaf: impl FnMut(&[u32], S::Mask, S) -> Option<S>,
     ) -> S {
         let nodes = self.nodes();
         let Some(root) = nodes.first() else {
@@ -128,7 +141,10 @@ impl Bvh {
             if node.is_leaf() {
                 let first = node.offset as usize;
                 let refs = &self.refs()[first..first + node.count as usize];
-                t_max = leaf(refs, mask, t_max);
+                match leaf(refs, mask, t_max) {
+                    Some(t) => t_max = t,
+                    None => return t_max,
+                }
             } else {
                 let (l, r) = (at + 1, node.offset as usize);
                 let (hl, tl) = ray.hit_box(&nodes[l].bounds, t_max);

@@ -18,12 +18,14 @@
 //! or as close and earlier in the input), which makes the result independent of the
 //! order the primitives are met in; the hit record is then filled in by the single-ray
 //! code.
+//!
+//! The any-hit query of a packet (shadow rays) uses the same kernels: a ray leaves the
+//! packet at its first hit, and the walk ends when every ray is blocked.
 
 use super::ray_data::RayData;
 use super::storage::{make_ref, INDEX_MASK, PLANE, SPHERE, TAG_SHIFT, TRIANGLE};
 use super::{kinds, Best, Geometry, Sphere, Triangle, TriangleTest, NO_HIT};
 use crate::bvh::packet::PacketRay;
-use crate::bvh::TraversalRay;
 use crate::ray::{Hit, Ray};
 use vecexpr::simd::{SimdF32, SimdMask};
 use vecexpr::{vec3, Expr, Mask, Vec3};
@@ -42,6 +44,11 @@ struct PacketData<S: SimdF32> {
     shear: Option<PacketShear<S>>,
 }
 
+/// The watertight shear of a packet whose rays share their axes.
+///
+/// The origin is kept in the sheared axis order too, so a triangle test picks its
+/// vertex coordinates by axis from memory (scalars, before the splat) and never indexes
+/// a vector of registers by a run-time axis (which costs a round trip through memory).
 struct PacketShear<S: SimdF32> {
     kx: usize,
     ky: usize,
@@ -49,17 +56,8 @@ struct PacketShear<S: SimdF32> {
     sx: S,
     sy: S,
     sz: S,
-}
-
-/// Lane `i` of the packet is `f(rd[i])`, or `f(fill)` where lane `i` has no ray.
-#[inline(always)]
-fn lanes<S: SimdF32>(
-    rd: &[Option<RayData<f32>>; MAX_LANES],
-    fill: &RayData<f32>,
-    f: impl Fn(&RayData<f32>) -> f32,
-) -> S {
-    let buf: [f32; MAX_LANES] = core::array::from_fn(|i| f(rd[i].as_ref().unwrap_or(fill)));
-    S::load(&buf)
+    /// The origins' `kx`, `ky`, `kz` coordinates.
+    o: [S; 3],
 }
 
 /// [`Sphere::intersect`] in every lane: the lanes with a hit in `(t_min, t_max]`, and
@@ -97,6 +95,27 @@ struct TriangleLanes<S: SimdF32> {
     b2: S,
 }
 
+/// Vertex `v` relative to the origins, in the sheared axis order: lane by lane the
+/// single-ray test's `a[kx]`, `a[ky]`, `a[kz]`. (Functions, not closures, carry the
+/// lane operations throughout: a closure does not inherit the instruction set of the
+/// `#[target_feature]` entry point and may be left out of line with calls to the
+/// intrinsics inside.)
+#[inline(always)]
+fn rel<S: SimdF32>(v: &Vec3<f32>, s: &PacketShear<S>) -> [S; 3] {
+    [
+        S::splat(v[s.kx]) - s.o[0],
+        S::splat(v[s.ky]) - s.o[1],
+        S::splat(v[s.kz]) - s.o[2],
+    ]
+}
+
+/// The closest distances so far as lanes.
+#[inline(always)]
+fn best_t<S: SimdF32>(best: &[Best<f32>; MAX_LANES]) -> S {
+    let t: [f32; MAX_LANES] = core::array::from_fn(|i| best[i].t);
+    S::load(&t)
+}
+
 /// [`Triangle::intersect_watertight`] in every lane, for rays sharing their shear axes.
 #[inline(always)]
 fn triangle_packet<S: SimdF32>(
@@ -105,13 +124,10 @@ fn triangle_packet<S: SimdF32>(
     s: &PacketShear<S>,
     t_max: S,
 ) -> TriangleLanes<S> {
-    let vertex = |v: &Vec3<f32>| vec3(S::splat(v[0]), S::splat(v[1]), S::splat(v[2]));
-    let a = (vertex(&tri.v[0]) - r.origin).eval();
-    let b = (vertex(&tri.v[1]) - r.origin).eval();
-    let c = (vertex(&tri.v[2]) - r.origin).eval();
-    let (ax, ay) = (a[s.kx] - s.sx * a[s.kz], a[s.ky] - s.sy * a[s.kz]);
-    let (bx, by) = (b[s.kx] - s.sx * b[s.kz], b[s.ky] - s.sy * b[s.kz]);
-    let (cx, cy) = (c[s.kx] - s.sx * c[s.kz], c[s.ky] - s.sy * c[s.kz]);
+    let (a, b, c) = (rel(&tri.v[0], s), rel(&tri.v[1], s), rel(&tri.v[2], s));
+    let (ax, ay) = (a[0] - s.sx * a[2], a[1] - s.sy * a[2]);
+    let (bx, by) = (b[0] - s.sx * b[2], b[1] - s.sy * b[2]);
+    let (cx, cy) = (c[0] - s.sx * c[2], c[1] - s.sy * c[2]);
     let u = cx * by - cy * bx;
     let v = ax * cy - ay * cx;
     let w = bx * ay - by * ax;
@@ -121,7 +137,7 @@ fn triangle_packet<S: SimdF32>(
     let some_pos = u.gt(zero).or(v.gt(zero)).or(w.gt(zero));
     let det = u + v + w;
     let inside = some_neg.and(some_pos).not().and(det.eq_mask(zero).not());
-    let (az, bz, cz) = (s.sz * a[s.kz], s.sz * b[s.kz], s.sz * c[s.kz]);
+    let (az, bz, cz) = (s.sz * a[2], s.sz * b[2], s.sz * c[2]);
     let t_scaled = u * az + v * bz + w * cz;
     let inv = det.recip();
     let t = t_scaled * inv;
@@ -144,7 +160,146 @@ fn each_lane(mut bits: u32, mut f: impl FnMut(usize)) {
     }
 }
 
+/// Rows of the set-up buffer of [`Setup::new`]: one per lane value.
+mod row {
+    pub const ORIGIN: usize = 0;
+    pub const DIR: usize = 3;
+    pub const T_MIN: usize = 6;
+    pub const DD: usize = 7;
+    pub const INV_DD: usize = 8;
+    pub const SHEAR: usize = 9;
+    pub const INV_DIR: usize = 12;
+    pub const T_LIMIT: usize = 15;
+    pub const ROWS: usize = 16;
+}
+
+/// Writes the lane values of `r` into column `l` of the set-up buffer.
+#[inline(always)]
+fn put_lane(buf: &mut [[f32; MAX_LANES]; row::ROWS], l: usize, r: &RayData<f32>) {
+    for a in 0..3 {
+        buf[row::ORIGIN + a][l] = r.origin[a];
+        buf[row::DIR + a][l] = r.dir[a];
+        buf[row::INV_DIR + a][l] = r.traversal.inv_dir[a];
+    }
+    buf[row::T_MIN][l] = r.t_min;
+    buf[row::DD][l] = r.dd;
+    buf[row::INV_DD][l] = r.inv_dd;
+    buf[row::SHEAR][l] = r.shear.sx;
+    buf[row::SHEAR + 1][l] = r.shear.sy;
+    buf[row::SHEAR + 2][l] = r.shear.sz;
+    buf[row::T_LIMIT][l] = r.t_limit;
+}
+
+/// A packet's rays prepared once for all its tests: each ray's [`RayData`] (for the
+/// single-ray kernels and the hit records) and the same values lane by lane.
+struct Setup<S: SimdF32> {
+    rd: [Option<RayData<f32>>; MAX_LANES],
+    /// Lanes with a valid ray.
+    valid: u32,
+    ray: PacketRay<S>,
+    pd: PacketData<S>,
+    /// Each ray's inclusive upper bound [`RayData::t_limit`].
+    t_limit: S,
+}
+
+impl<S: SimdF32> Setup<S> {
+    /// `None` when no lane of `rays[..S::LANES]` holds a valid ray. One pass over the
+    /// rays fills a buffer row by lane value (lanes without a ray copy the first valid
+    /// ray), which is then loaded row by row.
+    #[inline(always)]
+    fn new(rays: &[Option<Ray<f32>>]) -> Option<Self> {
+        let n = S::LANES;
+        let mut rd: [Option<RayData<f32>>; MAX_LANES] = [None; MAX_LANES];
+        let mut buf = [[0.0f32; MAX_LANES]; row::ROWS];
+        let mut valid = 0u32;
+        for (l, (slot, ray)) in rd[..n].iter_mut().zip(&rays[..n]).enumerate() {
+            if let Some(r) = ray.as_ref().and_then(RayData::new) {
+                put_lane(&mut buf, l, &r);
+                valid |= 1 << l;
+                *slot = Some(r);
+            }
+        }
+        if valid == 0 {
+            return None;
+        }
+        let fill = rd[valid.trailing_zeros() as usize]?;
+        let all = if n >= 32 { u32::MAX } else { (1u32 << n) - 1 };
+        each_lane(all & !valid, |l| put_lane(&mut buf, l, &fill));
+        let mut same_axes = true;
+        each_lane(valid, |l| {
+            let s = rd[l].as_ref().map(|r| &r.shear);
+            same_axes &= s.is_some_and(|s| {
+                (s.kx, s.ky, s.kz) == (fill.shear.kx, fill.shear.ky, fill.shear.kz)
+            });
+        });
+        let mut rows = [S::zero(); row::ROWS];
+        for (v, b) in rows.iter_mut().zip(&buf) {
+            *v = S::load(b);
+        }
+        let ray = PacketRay::from_lanes(
+            [
+                rows[row::ORIGIN],
+                rows[row::ORIGIN + 1],
+                rows[row::ORIGIN + 2],
+            ],
+            [
+                rows[row::INV_DIR],
+                rows[row::INV_DIR + 1],
+                rows[row::INV_DIR + 2],
+            ],
+            rows[row::T_MIN],
+            fill.traversal.slack,
+        );
+        let pd = PacketData {
+            origin: vec3(
+                rows[row::ORIGIN],
+                rows[row::ORIGIN + 1],
+                rows[row::ORIGIN + 2],
+            ),
+            dir: vec3(rows[row::DIR], rows[row::DIR + 1], rows[row::DIR + 2]),
+            t_min: rows[row::T_MIN],
+            dd: rows[row::DD],
+            inv_dd: rows[row::INV_DD],
+            shear: same_axes.then(|| PacketShear {
+                kx: fill.shear.kx,
+                ky: fill.shear.ky,
+                kz: fill.shear.kz,
+                sx: rows[row::SHEAR],
+                sy: rows[row::SHEAR + 1],
+                sz: rows[row::SHEAR + 2],
+                o: [
+                    rows[row::ORIGIN + fill.shear.kx],
+                    rows[row::ORIGIN + fill.shear.ky],
+                    rows[row::ORIGIN + fill.shear.kz],
+                ],
+            }),
+        };
+        Some(Self {
+            rd,
+            valid,
+            ray,
+            pd,
+            t_limit: rows[row::T_LIMIT],
+        })
+    }
+
+    /// The ray data of an active lane.
+    #[inline(always)]
+    fn lane(&self, l: usize) -> &RayData<f32> {
+        self.rd[l].as_ref().expect("an active lane has a ray")
+    }
+}
+
 impl Geometry<f32> {
+    /// Can the packet kernels serve this geometry (a BVH and the watertight test)?
+    #[inline(always)]
+    fn packet_bvh(&self) -> Option<&crate::bvh::Bvh> {
+        match (&self.bvh, self.triangle_test) {
+            (Some(bvh), TriangleTest::Watertight) => Some(bvh),
+            _ => None,
+        }
+    }
+
     /// The closest hit of each ray of a packet of `S::LANES` rays: `out[i]` is what
     /// [`Geometry::intersect`] returns for `rays[i]` (`None` where `rays[i]` is `None`),
     /// bit for bit. Meant to be called inside [`vecexpr::simd::Isa::dispatch`], so the
@@ -160,138 +315,200 @@ impl Geometry<f32> {
     ) {
         let n = S::LANES;
         assert!(n <= MAX_LANES && rays.len() >= n && out.len() >= n);
-        let bvh = match (&self.bvh, self.triangle_test) {
-            (Some(bvh), TriangleTest::Watertight) => bvh,
-            _ => {
-                for (o, r) in out[..n].iter_mut().zip(&rays[..n]) {
-                    *o = r.as_ref().and_then(|r| self.intersect(r));
-                }
-                return;
+        let Some(bvh) = self.packet_bvh() else {
+            for (o, r) in out[..n].iter_mut().zip(&rays[..n]) {
+                *o = r.as_ref().and_then(|r| self.intersect(r));
             }
+            return;
         };
-        let rd: [Option<RayData<f32>>; MAX_LANES] = core::array::from_fn(|i| {
-            if i < n {
-                rays[i].as_ref().and_then(RayData::new)
-            } else {
-                None
-            }
-        });
-        let Some(fill) = rd.iter().flatten().next().copied() else {
+        let Some(su) = Setup::<S>::new(rays) else {
             out[..n].fill(None);
             return;
         };
-        let mut best: [Best<f32>; MAX_LANES] = core::array::from_fn(|i| Best {
+        let mut best = [Best {
             r: NO_HIT,
-            t: rd[i].as_ref().map_or(0.0, |r| r.t_limit),
+            t: 0.0,
             b1: 0.0,
             b2: 0.0,
-        });
+        }; MAX_LANES];
+        each_lane(su.valid, |l| best[l].t = su.lane(l).t_limit);
         // Planes first, as the single-ray query does.
-        for (b, r) in best.iter_mut().zip(&rd) {
-            if let Some(r) = r {
+        let mut t0 = su.t_limit;
+        if !self.prims.planes.is_empty() {
+            each_lane(su.valid, |l| {
+                let (r, b) = (su.lane(l), &mut best[l]);
                 for i in 0..self.prims.planes.len() {
                     let p = make_ref(PLANE, i);
                     if let Some(h) = self.test::<true, { kinds::ALL }>(p, r, b.t) {
                         self.offer(b, p, h);
                     }
                 }
-            }
+            });
+            t0 = best_t::<S>(&best);
         }
-        let valid = rd
-            .iter()
-            .enumerate()
-            .fold(0u32, |m, (i, r)| m | (u32::from(r.is_some()) << i));
-        let trav: [Option<&TraversalRay<f32>>; MAX_LANES] =
-            core::array::from_fn(|i| rd[i].as_ref().map(|r| &r.traversal));
-        let Some(ray) = PacketRay::<S>::gather(&trav) else {
-            out[..n].fill(None);
-            return;
-        };
-        let same_axes = rd.iter().flatten().all(|r| {
-            (r.shear.kx, r.shear.ky, r.shear.kz) == (fill.shear.kx, fill.shear.ky, fill.shear.kz)
-        });
-        let pd = PacketData::<S> {
-            origin: vec3(
-                lanes(&rd, &fill, |r| r.origin[0]),
-                lanes(&rd, &fill, |r| r.origin[1]),
-                lanes(&rd, &fill, |r| r.origin[2]),
-            ),
-            dir: vec3(
-                lanes(&rd, &fill, |r| r.dir[0]),
-                lanes(&rd, &fill, |r| r.dir[1]),
-                lanes(&rd, &fill, |r| r.dir[2]),
-            ),
-            t_min: lanes(&rd, &fill, |r| r.t_min),
-            dd: lanes(&rd, &fill, |r| r.dd),
-            inv_dd: lanes(&rd, &fill, |r| r.inv_dd),
-            shear: same_axes.then(|| PacketShear {
-                kx: fill.shear.kx,
-                ky: fill.shear.ky,
-                kz: fill.shear.kz,
-                sx: lanes(&rd, &fill, |r| r.shear.sx),
-                sy: lanes(&rd, &fill, |r| r.shear.sy),
-                sz: lanes(&rd, &fill, |r| r.shear.sz),
-            }),
-        };
-        let best_t = |best: &[Best<f32>; MAX_LANES]| {
-            let t: [f32; MAX_LANES] = core::array::from_fn(|i| best[i].t);
-            S::load(&t)
-        };
-        let t0 = best_t(&best);
+        let pd = &su.pd;
         bvh.traverse_packet(
-            &ray,
-            S::Mask::from_bitmask(valid),
+            &su.ray,
+            S::Mask::from_bitmask(su.valid),
             t0,
             |refs, mask, mut t_max| {
                 let m = mask.bitmask();
                 for &r in refs {
                     let i = (r & INDEX_MASK) as usize;
-                    let mut improved = false;
                     // The single-ray test and offer for the lanes in `bits`.
                     let single = |bits: u32, best: &mut [Best<f32>; MAX_LANES]| {
                         let mut improved = false;
                         each_lane(bits, |l| {
-                            let rd = rd[l].as_ref().expect("an active lane has a ray");
-                            if let Some(h) = self.test::<true, { kinds::ALL }>(r, rd, best[l].t) {
-                                improved |= self.offer(&mut best[l], r, h);
+                            let b = &mut best[l];
+                            if let Some(h) = self.test::<true, { kinds::ALL }>(r, su.lane(l), b.t) {
+                                improved |= self.offer(b, r, h);
                             }
                         });
                         improved
                     };
+                    // A kernel hit lies in (t_min, best.t]: it either becomes the best
+                    // or ties with it, so the lane's new best distance is the hit's.
                     match r >> TAG_SHIFT {
                         SPHERE => {
-                            let (hit, t) = sphere_packet(&self.prims.spheres[i], &pd, t_max);
-                            each_lane(hit.bitmask() & m, |l| {
-                                improved |= self.offer(&mut best[l], r, (t.lane(l), 0.0, 0.0));
-                            });
+                            let (hit, t) = sphere_packet(&self.prims.spheres[i], pd, t_max);
+                            let bits = hit.bitmask() & m;
+                            if bits != 0 {
+                                let mut ts = [0.0f32; MAX_LANES];
+                                t.store(&mut ts);
+                                each_lane(bits, |l| {
+                                    self.offer(&mut best[l], r, (ts[l], 0.0, 0.0));
+                                });
+                                t_max = S::select(S::Mask::from_bitmask(bits), t, t_max);
+                            }
                         }
                         TRIANGLE => match &pd.shear {
                             Some(sh) => {
-                                let h = triangle_packet(&self.prims.triangles[i], &pd, sh, t_max);
-                                each_lane(h.hit.bitmask() & m, |l| {
-                                    let hit = (h.t.lane(l), h.b1.lane(l), h.b2.lane(l));
-                                    improved |= self.offer(&mut best[l], r, hit);
-                                });
-                                improved |= single(h.exact.bitmask() & m, &mut best);
+                                let h = triangle_packet(&self.prims.triangles[i], pd, sh, t_max);
+                                let bits = h.hit.bitmask() & m;
+                                if bits != 0 {
+                                    let mut tb = [[0.0f32; MAX_LANES]; 3];
+                                    h.t.store(&mut tb[0]);
+                                    h.b1.store(&mut tb[1]);
+                                    h.b2.store(&mut tb[2]);
+                                    each_lane(bits, |l| {
+                                        let hit = (tb[0][l], tb[1][l], tb[2][l]);
+                                        self.offer(&mut best[l], r, hit);
+                                    });
+                                    t_max = S::select(S::Mask::from_bitmask(bits), h.t, t_max);
+                                }
+                                let exact = h.exact.bitmask() & m;
+                                if exact != 0 && single(exact, &mut best) {
+                                    t_max = best_t::<S>(&best);
+                                }
                             }
-                            None => improved |= single(m, &mut best),
+                            None => {
+                                if single(m, &mut best) {
+                                    t_max = best_t::<S>(&best);
+                                }
+                            }
                         },
-                        _ => improved |= single(m, &mut best),
-                    }
-                    if improved {
-                        t_max = best_t(&best);
+                        _ => {
+                            if single(m, &mut best) {
+                                t_max = best_t::<S>(&best);
+                            }
+                        }
                     }
                 }
-                t_max
+                Some(t_max)
             },
         );
         for (l, o) in out[..n].iter_mut().enumerate() {
-            *o = match &rd[l] {
+            *o = match &su.rd[l] {
                 Some(r) if best[l].r != NO_HIT => {
                     Some(self.make_hit::<{ kinds::ALL }>(&best[l], r))
                 }
                 _ => None,
             };
         }
+    }
+
+    /// Is each ray of a packet of `S::LANES` rays blocked: `out[i]` is what
+    /// [`Geometry::occluded`] returns for `rays[i]` (`false` where `rays[i]` is `None`).
+    /// An any-hit query: a lane leaves the traversal at its first hit, and the traversal
+    /// ends when every lane is blocked. Meant to be called inside
+    /// [`vecexpr::simd::Isa::dispatch`], as [`Geometry::intersect_packet`].
+    ///
+    /// # Panics
+    /// If `rays` or `out` is shorter than `S::LANES`, or `S::LANES > 16`.
+    #[inline(always)]
+    pub fn occluded_packet<S: SimdF32>(&self, rays: &[Option<Ray<f32>>], out: &mut [bool]) {
+        let n = S::LANES;
+        assert!(n <= MAX_LANES && rays.len() >= n && out.len() >= n);
+        let Some(bvh) = self.packet_bvh() else {
+            for (o, r) in out[..n].iter_mut().zip(&rays[..n]) {
+                *o = r.as_ref().is_some_and(|r| self.occluded(r));
+            }
+            return;
+        };
+        out[..n].fill(false);
+        let Some(su) = Setup::<S>::new(rays) else {
+            return;
+        };
+        // Blocked lanes.
+        let mut done = 0u32;
+        let hits = |r: u32, l: usize| {
+            let rd = su.lane(l);
+            self.test::<true, { kinds::ALL }>(r, rd, rd.t_limit)
+                .is_some()
+        };
+        if !self.prims.planes.is_empty() {
+            each_lane(su.valid, |l| {
+                if (0..self.prims.planes.len()).any(|i| hits(make_ref(PLANE, i), l)) {
+                    done |= 1 << l;
+                }
+            });
+        }
+        let active = su.valid & !done;
+        if active != 0 {
+            let pd = &su.pd;
+            let gone = S::splat(f32::NEG_INFINITY);
+            bvh.traverse_packet(
+                &su.ray,
+                S::Mask::from_bitmask(active),
+                su.t_limit,
+                |refs, mask, t_max| {
+                    let mut m = mask.bitmask() & !done;
+                    for &r in refs {
+                        if m == 0 {
+                            break;
+                        }
+                        let i = (r & INDEX_MASK) as usize;
+                        let single = |bits: u32| {
+                            let mut found = 0u32;
+                            each_lane(bits, |l| found |= u32::from(hits(r, l)) << l);
+                            found
+                        };
+                        match r >> TAG_SHIFT {
+                            SPHERE => {
+                                let (hit, _) = sphere_packet(&self.prims.spheres[i], pd, t_max);
+                                done |= hit.bitmask() & m;
+                            }
+                            TRIANGLE => match &pd.shear {
+                                Some(sh) => {
+                                    let h =
+                                        triangle_packet(&self.prims.triangles[i], pd, sh, t_max);
+                                    done |= h.hit.bitmask() & m;
+                                    done |= single(h.exact.bitmask() & m & !done);
+                                }
+                                None => done |= single(m),
+                            },
+                            _ => done |= single(m),
+                        }
+                        m &= !done;
+                    }
+                    if active & !done == 0 {
+                        None
+                    } else {
+                        Some(S::select(S::Mask::from_bitmask(done), gone, t_max))
+                    }
+                },
+            );
+        }
+        each_lane(done, |l| out[l] = true);
     }
 }
