@@ -358,6 +358,94 @@ mod tests {
         assert!(t.intersect_watertight(&near, 2.5).is_none());
     }
 
+    /// Lane by lane, `Tri4` must return exactly what the scalar test returns.
+    fn check_tri4<T: Real>(tris: &[Triangle<T>], r: &RayData<T>, t_max: T) {
+        for chunk in tris.chunks(TRI4_LANES) {
+            let lanes: Vec<(u32, Triangle<T>)> = chunk
+                .iter()
+                .enumerate()
+                .map(|(i, t)| (i as u32, *t))
+                .collect();
+            let g = Tri4::new(&lanes);
+            let h = g.intersect_watertight(r, t_max);
+            for i in 0..TRI4_LANES {
+                let scalar = chunk[i.min(chunk.len() - 1)].intersect_watertight(r, t_max);
+                assert_eq!(h.bits & (1 << i) != 0, scalar.is_some(), "lane {i}");
+                if let Some((t, b1, b2)) = scalar {
+                    let bits = |x: T| x.to_f64().to_bits();
+                    assert_eq!(
+                        (bits(h.t[i]), bits(h.b1[i]), bits(h.b2[i])),
+                        (bits(t), bits(b1), bits(b2)),
+                        "lane {i}"
+                    );
+                }
+            }
+        }
+    }
+
+    fn tri4_matches_scalar<T: Real>() {
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut next = move |range: f64| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            ((seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0) * range
+        };
+        let f = <T as Real>::from_f64;
+        // Random triangles and rays.
+        let mut random = || vec3(f(next(2.0)), f(next(2.0)), f(next(2.0)));
+        let tris: Vec<Triangle<T>> = (0..64)
+            .map(|_| Triangle {
+                v: [random(), random(), random()],
+            })
+            .collect();
+        for _ in 0..200 {
+            let o = vec3(f(next(4.0)), f(next(4.0)), f(next(4.0)));
+            let d = vec3(f(next(1.0)), f(next(1.0)), f(next(1.0)));
+            if let Some(r) = RayData::new(&Ray::new(o, d)) {
+                check_tri4(&tris, &r, r.t_limit);
+                check_tri4(&tris, &r, f(1.5));
+            }
+        }
+        // A grid of integer triangles sharing edges and vertices, and axis-aligned and
+        // diagonal rays through those edges and vertices: edge functions exactly zero,
+        // so the f64 recomputation runs in some lanes and not in others.
+        let mut grid = Vec::new();
+        for i in 0..3 {
+            for j in 0..3 {
+                let p = |x: i32, y: i32| vec3(f(x as f64), f(y as f64), f(((x + y) % 2) as f64));
+                grid.push(Triangle {
+                    v: [p(i, j), p(i + 1, j), p(i + 1, j + 1)],
+                });
+                grid.push(Triangle {
+                    v: [p(i, j), p(i + 1, j + 1), p(i, j + 1)],
+                });
+            }
+        }
+        for x in 0..7 {
+            for y in 0..7 {
+                let (px, py) = (f(x as f64 * 0.5), f(y as f64 * 0.5));
+                for d in [
+                    vec3(f(0.0), f(0.0), f(-1.0)),
+                    vec3(f(0.0), f(0.0), f(1.0)),
+                    vec3(f(0.25), f(0.25), f(-1.0)),
+                    vec3(f(1.0), f(0.0), f(0.0)),
+                    vec3(f(1.0), f(1.0), f(0.0)),
+                ] {
+                    let o = vec3(px, py, f(3.0)) - (&d).scale(f(2.0));
+                    let r = RayData::new(&Ray::new(o.eval(), d)).unwrap();
+                    check_tri4(&grid, &r, r.t_limit);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn tri4_lanes_match_the_scalar_test_bit_for_bit() {
+        tri4_matches_scalar::<f32>();
+        tri4_matches_scalar::<f64>();
+    }
+
     #[test]
     fn shared_edge_is_hit_exactly_once_or_twice_never_zero() {
         // Two triangles sharing the diagonal of the unit square; rays straight through
