@@ -10,7 +10,7 @@
 //! count[lane]               u32 x 4   16 bytes  leaf: number of primitives; else 0
 //! ```
 //! A leaf whose `count` has [`GROUPED`] set was rewritten by its owner
-//! ([`Bvh::regroup_wide_leaves`]): its `child` then indexes the owner's own leaf data
+//! (`Bvh::regroup_wide_leaves`): its `child` then indexes the owner's own leaf data
 //! (the geometry's groups of four triangles) instead of `Bvh::refs`, and the low bits
 //! still count its primitives.
 //! Unused slots get the empty box (`lo = +inf`, `hi = -inf`), which no ray can enter, so
@@ -184,7 +184,7 @@ struct Entry<T> {
 pub enum Leaf<'a> {
     /// Primitive references (a run of `Bvh::refs`).
     Refs(&'a [u32]),
-    /// A leaf rewritten by [`Bvh::regroup_wide_leaves`]: the owner's `child` and the
+    /// A leaf rewritten by `Bvh::regroup_wide_leaves`: the owner's `child` and the
     /// number of primitives.
     Grouped {
         /// What the owner's callback returned for this leaf.
@@ -227,7 +227,7 @@ impl Bvh {
     /// `t_max` never shrinks, so neither sorting nor the distance check on pop pays.
     ///
     /// `leaf(leaf, t_max)` is called with [`Leaf::Refs`] for a leaf of references and
-    /// with [`Leaf::Grouped`] for one rewritten by [`Bvh::regroup_wide_leaves`].
+    /// with [`Leaf::Grouped`] for one rewritten by `Bvh::regroup_wide_leaves`.
     #[inline(always)]
     pub fn traverse4<T: Real, const ANY_HIT: bool>(
         &self,

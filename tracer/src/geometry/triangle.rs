@@ -18,7 +18,7 @@
 //! runs the watertight test on all four against one ray in one pass over `vecexpr`
 //! packets of four lanes (the layout of Embree's `Triangle4`, Wald et al., "Embree: A
 //! Kernel Framework for Efficient CPU Ray Tracing", ACM TOG 33(4), 2014). Each lane
-//! performs exactly the operations of [`Triangle::intersect_watertight`] in the same
+//! performs exactly the operations of `Triangle::intersect_watertight` in the same
 //! order, with the same `f64` fallback on an exact zero, so its result is bit-identical
 //! to the scalar test of that triangle.
 
@@ -138,7 +138,7 @@ pub struct Tri4<T: Real> {
     pub index: [u32; TRI4_LANES],
 }
 
-/// What [`Tri4::intersect_watertight`] found: hit lanes as bits (`1 << lane`) and the
+/// What `Tri4::intersect_watertight` found: hit lanes as bits (`1 << lane`) and the
 /// per-lane $(t, b_1, b_2)$, valid for the hit lanes.
 #[derive(Clone, Copy, Debug)]
 pub struct Tri4Hits<T: Real> {
@@ -166,7 +166,7 @@ impl<T: Real> Tri4<T> {
         }
     }
 
-    /// The watertight test of [`Triangle::intersect_watertight`] on all four lanes:
+    /// The watertight test of `Triangle::intersect_watertight` on all four lanes:
     /// lane `i` of the result is bit for bit what the scalar test returns for lane
     /// `i`'s triangle. In `f32` on x86-64 the lanes are SSE registers
     /// ([`vecexpr::simd::F32x4`]); otherwise `vecexpr` packets of `T`.
@@ -192,7 +192,7 @@ impl<T: Real> Tri4<T> {
         self.intersect_lanes::<P4<T>>(r, t_max)
     }
 
-    /// [`Tri4::intersect_watertight`] over the lane type `L`.
+    /// `Tri4::intersect_watertight` over the lane type `L`.
     #[inline(always)]
     fn intersect_lanes<L: Lanes4<T>>(&self, r: &RayData<T>, t_max: T) -> Tri4Hits<T> {
         let s = &r.shear;
@@ -227,7 +227,7 @@ impl<T: Real> Tri4<T> {
 }
 
 /// One vertex of four triangles relative to the ray origin and sheared in x and y as in
-/// [`Triangle::intersect_watertight`]: `(x, y, z)`, `z` not yet scaled.
+/// `Triangle::intersect_watertight`: `(x, y, z)`, `z` not yet scaled.
 #[inline(always)]
 fn sheared<T: Real, L: Lanes4<T>>(v: &[[T; TRI4_LANES]; 3], r: &RayData<T>) -> (L, L, L) {
     let s = &r.shear;
