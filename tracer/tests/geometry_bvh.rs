@@ -322,6 +322,51 @@ macro_rules! bvh_tests {
             }
 
             #[test]
+            fn stacked_triangles_tie_to_the_first_given() {
+                // Copies of the same quads (ties in `t` within and across leaves and
+                // groups of four), shuffled with distinct quads: every hit must be the
+                // copy given first, on every tree and with shadow rays.
+                let mut rng = Pcg(11);
+                let mut shapes = Vec::new();
+                for k in 0..40 {
+                    let (x, y) = (f64::from(k % 8) * 1.5, f64::from(k / 8) * 1.5);
+                    let copies = if k % 3 == 0 { 7 } else { 1 };
+                    for c in 0..copies {
+                        shapes.push(desc(
+                            Shape::Polygon {
+                                vertices: vec![
+                                    [x, y, 0.0],
+                                    [x + 1.0, y, 0.0],
+                                    [x + 1.0, y + 1.0, 0.0],
+                                    [x, y + 1.0, 0.0],
+                                ],
+                            },
+                            c,
+                        ));
+                    }
+                }
+                let mut rays = random_rays::<T>(&mut rng, 3_000);
+                for i in 0..400 {
+                    let p = rng.point(-1.0, 12.0);
+                    let f = <T as Real>::from_f64;
+                    let z = if i % 2 == 0 { 1.0 } else { -1.0 };
+                    rays.push(Ray::new(
+                        vec3(f(p[0]), f(p[1]), f(4.0 * z)),
+                        vec3(f(0.0), f(0.0), f(-z)),
+                    ));
+                }
+                let configs = [1, 4, 8].map(|leaf| opts(TriangleTest::Watertight, leaf));
+                let hits = compare(&shapes, &rays, &configs);
+                assert!(hits > 150, "{hits} hits");
+                let g = Geometry::<T>::build(&shapes, &AccelOptions::default());
+                for r in &rays {
+                    if let Some(h) = g.intersect(r) {
+                        assert_eq!(h.material, 0, "{r:?}");
+                    }
+                }
+            }
+
+            #[test]
             fn axis_aligned_rays_on_box_faces() {
                 // A grid of unit cubes made of quads; rays run exactly along the faces
                 // (zero direction components, origins on box planes).

@@ -9,6 +9,10 @@
 //!                                               unused slot: EMPTY_SLOT
 //! count[lane]               u32 x 4   16 bytes  leaf: number of primitives; else 0
 //! ```
+//! A leaf whose `count` has [`GROUPED`] set was rewritten by its owner
+//! (`Bvh::regroup_wide_leaves`): its `child` then indexes the owner's own leaf data
+//! (the geometry's groups of four triangles) instead of `Bvh::refs`, and the low bits
+//! still count its primitives.
 //! Unused slots get the empty box (`lo = +inf`, `hi = -inf`), which no ray can enter, so
 //! the box test needs no special case for them.
 //!
@@ -36,6 +40,9 @@ use vecexpr::{Mask, Packet, Real, Scalar};
 pub const WIDTH: usize = 4;
 /// `child` of an unused slot.
 pub const EMPTY_SLOT: u32 = u32::MAX;
+/// Flag in a leaf's `count`: `child` indexes the owner's grouped leaf data, not
+/// `Bvh::refs` (see the module docs).
+pub const GROUPED: u32 = 1 << 31;
 /// Pending entries: at most three per wide level (the siblings of the path), and at
 /// most `MAX_DEPTH / 2` wide levels.
 pub const STACK_SIZE: usize = (WIDTH - 1) * (super::build::MAX_DEPTH / 2 + 1);
@@ -172,10 +179,45 @@ struct Entry<T> {
     t: T,
 }
 
+/// A leaf of the four-wide tree as [`Bvh::traverse4`] hands it out.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Leaf<'a> {
+    /// Primitive references (a run of `Bvh::refs`).
+    Refs(&'a [u32]),
+    /// A leaf rewritten by `Bvh::regroup_wide_leaves`: the owner's `child` and the
+    /// number of primitives.
+    Grouped {
+        /// What the owner's callback returned for this leaf.
+        child: u32,
+        /// Primitives in the leaf.
+        count: u32,
+    },
+}
+
 impl Bvh {
     /// The four-wide tree, if one was built.
     pub fn wide_nodes(&self) -> &[Node4] {
         &self.wide
+    }
+
+    /// Visits every leaf of the four-wide tree in node order (and slot order within a
+    /// node) with its references; where `f` returns `Some(child)` the leaf is marked
+    /// [`GROUPED`] with that `child`, so [`Bvh::traverse4`] hands the leaf to its
+    /// callback as `(child, count | GROUPED)`. The binary tree and `refs` are kept.
+    pub(crate) fn regroup_wide_leaves(&mut self, mut f: impl FnMut(&[u32]) -> Option<u32>) {
+        for node in &mut self.wide {
+            for lane in 0..WIDTH {
+                let count = node.count[lane];
+                if count == 0 || count & GROUPED != 0 {
+                    continue;
+                }
+                let first = node.child[lane] as usize;
+                if let Some(child) = f(&self.refs[first..first + count as usize]) {
+                    node.child[lane] = child;
+                    node.count[lane] = count | GROUPED;
+                }
+            }
+        }
     }
 
     /// As [`Bvh::traverse`], over the four-wide tree: at each node the four child boxes
@@ -183,12 +225,15 @@ impl Bvh {
     /// others pushed with their entry distances. With `ANY_HIT` the hit children are
     /// visited in slot order instead: the walk stops at the first hit anyway, and
     /// `t_max` never shrinks, so neither sorting nor the distance check on pop pays.
+    ///
+    /// `leaf(leaf, t_max)` is called with [`Leaf::Refs`] for a leaf of references and
+    /// with [`Leaf::Grouped`] for one rewritten by `Bvh::regroup_wide_leaves`.
     #[inline(always)]
     pub fn traverse4<T: Real, const ANY_HIT: bool>(
         &self,
         ray: &TraversalRay<T>,
         mut t_max: T,
-        mut leaf: impl FnMut(&[u32], T) -> Option<T>,
+        mut leaf: impl FnMut(Leaf<'_>, T) -> Option<T>,
     ) -> bool {
         let nodes: &[Node4] = &self.wide;
         if nodes.is_empty() {
@@ -272,9 +317,16 @@ impl Bvh {
                         continue 'walk;
                     }
                     Some((first, count)) => {
-                        let first = first as usize;
-                        let refs = &self.refs[first..first + count as usize];
-                        if let Some(t) = leaf(refs, t_max) {
+                        let l = if count & GROUPED != 0 {
+                            Leaf::Grouped {
+                                child: first,
+                                count: count & !GROUPED,
+                            }
+                        } else {
+                            let first = first as usize;
+                            Leaf::Refs(&self.refs[first..first + count as usize])
+                        };
+                        if let Some(t) = leaf(l, t_max) {
                             found = true;
                             if ANY_HIT {
                                 return true;

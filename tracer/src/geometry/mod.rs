@@ -22,7 +22,10 @@
 //! index, material, normals) in a parallel one. A BVH reference is a `u32` with a 2-bit
 //! type tag and a 30-bit index. After the build the arrays are reordered into leaf
 //! order, so a leaf's primitives are adjacent in memory, and since leaves are mostly of
-//! one type the dispatch branch predicts well.
+//! one type the dispatch branch predicts well. The triangles of every leaf of the
+//! four-wide tree that holds only triangles are also copied into structure-of-arrays
+//! groups of four ([`triangle::Tri4`]), which that leaf points at instead of its
+//! references, and are tested against a ray four at a time.
 //!
 //! # BVH
 //! Binned SAH (Wald 2007) over conservative `f32` boxes, built in parallel and
@@ -60,7 +63,9 @@ pub use offset::offset_ray;
 pub use plane::Plane;
 pub use sphere::Sphere;
 pub use triangle::Triangle;
+use triangle::{Tri4, TRI4_LANES};
 
+use crate::bvh::wide::Leaf;
 use crate::bvh::{Bounds3, BuildConfig, Bvh};
 use crate::ray::{Hit, Ray};
 use crate::scene::desc::ShapeDesc;
@@ -266,6 +271,7 @@ impl<T: Real> Geometry<T> {
             };
             let mut bvh = Bvh::build(&mut build_prims, &cfg);
             prims.reorder(&mut bvh);
+            prims.group_leaves(&mut bvh);
             bvh
         });
         drop(build_prims);
@@ -431,15 +437,21 @@ impl<T: Real> Geometry<T> {
         let mut found = NO_HINT;
         let hit = match &self.bvh {
             Some(bvh) => {
-                let leaf = |refs: &[u32], _| {
-                    let r = *refs.iter().find(|&&r| hits(r))?;
-                    found = r;
+                let mut leaf = |l: Leaf<'_>, _| {
+                    found = match l {
+                        Leaf::Refs(refs) => *refs.iter().find(|&&r| hits(r))?,
+                        Leaf::Grouped { child, count } => {
+                            self.any_grouped::<WATERTIGHT, KINDS>(child, count, &rd, limit)?
+                        }
+                    };
                     Some(limit)
                 };
                 if self.wide {
                     bvh.traverse4::<T, true>(&rd.traversal, limit, leaf)
                 } else {
-                    bvh.traverse::<T, true>(&rd.traversal, limit, leaf)
+                    bvh.traverse::<T, true>(&rd.traversal, limit, |refs: &[u32], t| {
+                        leaf(Leaf::Refs(refs), t)
+                    })
                 }
             }
             None => match self.all_refs().find(|&r| hits(r)) {
@@ -496,6 +508,85 @@ impl<T: Real> Geometry<T> {
         }
     }
 
+    /// The groups of four triangles of a grouped leaf ([`storage::Prims::group_leaves`]).
+    #[inline(always)]
+    fn groups(&self, child: u32, count: u32) -> &[Tri4<T>] {
+        let first = child as usize;
+        &self.prims.tri4[first..first + count.div_ceil(TRI4_LANES as u32) as usize]
+    }
+
+    /// The closest-hit leaf loop over a grouped leaf: offers every hit lane that is
+    /// still within `best.t` (an earlier lane of the same group may have lowered it).
+    /// The result is that of the reference loop over the same triangles, since
+    /// [`Geometry::offer`] keeps the smallest `(t, key)` in any order.
+    #[inline(always)]
+    fn closest_grouped<const WATERTIGHT: bool, const KINDS: u32>(
+        &self,
+        child: u32,
+        count: u32,
+        rd: &RayData<T>,
+        best: &mut Best<T>,
+    ) -> bool {
+        let mut improved = false;
+        if !kind_in::<KINDS>(TRIANGLE) {
+            return false;
+        }
+        for g in self.groups(child, count) {
+            if WATERTIGHT {
+                let h = g.intersect_watertight(rd, best.t);
+                let mut bits = h.bits;
+                while bits != 0 {
+                    let i = bits.trailing_zeros() as usize;
+                    bits &= bits - 1;
+                    if h.t[i] <= best.t {
+                        let r = make_ref(TRIANGLE, g.index[i] as usize);
+                        improved |= self.offer(best, r, (h.t[i], h.b1[i], h.b2[i]));
+                    }
+                }
+            } else {
+                for &i in &g.index {
+                    let r = make_ref(TRIANGLE, i as usize);
+                    if let Some(h) = self.test::<WATERTIGHT, KINDS>(r, rd, best.t) {
+                        improved |= self.offer(best, r, h);
+                    }
+                }
+            }
+        }
+        improved
+    }
+
+    /// The any-hit leaf loop over a grouped leaf: the reference of a triangle hit
+    /// within `limit`, if any.
+    #[inline(always)]
+    fn any_grouped<const WATERTIGHT: bool, const KINDS: u32>(
+        &self,
+        child: u32,
+        count: u32,
+        rd: &RayData<T>,
+        limit: T,
+    ) -> Option<u32> {
+        if !kind_in::<KINDS>(TRIANGLE) {
+            return None;
+        }
+        for g in self.groups(child, count) {
+            if WATERTIGHT {
+                let bits = g.intersect_watertight(rd, limit).bits;
+                if bits != 0 {
+                    let i = bits.trailing_zeros() as usize;
+                    return Some(make_ref(TRIANGLE, g.index[i] as usize));
+                }
+            } else {
+                for &i in &g.index {
+                    let r = make_ref(TRIANGLE, i as usize);
+                    if self.test::<WATERTIGHT, KINDS>(r, rd, limit).is_some() {
+                        return Some(r);
+                    }
+                }
+            }
+        }
+        None
+    }
+
     /// Keeps the hit if it is closer, or equally close and given earlier.
     #[inline(always)]
     fn offer(&self, best: &mut Best<T>, r: u32, (t, b1, b2): (T, T, T)) -> bool {
@@ -540,11 +631,19 @@ impl<T: Real> Geometry<T> {
         match &self.bvh {
             Some(bvh) => {
                 let t0 = best.t;
-                let leaf = |refs: &[u32], _| {
+                let mut leaf = |l: Leaf<'_>, _| {
                     let mut improved = false;
-                    for &r in refs {
-                        if let Some(h) = self.test::<WATERTIGHT, KINDS>(r, &rd, best.t) {
-                            improved |= self.offer(&mut best, r, h);
+                    match l {
+                        Leaf::Refs(refs) => {
+                            for &r in refs {
+                                if let Some(h) = self.test::<WATERTIGHT, KINDS>(r, &rd, best.t) {
+                                    improved |= self.offer(&mut best, r, h);
+                                }
+                            }
+                        }
+                        Leaf::Grouped { child, count } => {
+                            improved = self
+                                .closest_grouped::<WATERTIGHT, KINDS>(child, count, &rd, &mut best);
                         }
                     }
                     improved.then_some(best.t)
@@ -552,7 +651,9 @@ impl<T: Real> Geometry<T> {
                 if self.wide {
                     bvh.traverse4::<T, false>(&rd.traversal, t0, leaf);
                 } else {
-                    bvh.traverse::<T, false>(&rd.traversal, t0, leaf);
+                    bvh.traverse::<T, false>(&rd.traversal, t0, |refs: &[u32], t| {
+                        leaf(Leaf::Refs(refs), t)
+                    });
                 }
             }
             None => {
@@ -583,11 +684,21 @@ impl<T: Real> Geometry<T> {
         }
         match &self.bvh {
             Some(bvh) => {
-                let leaf = |refs: &[u32], _| refs.iter().any(|&r| hits(r)).then_some(limit);
+                let leaf = |l: Leaf<'_>, _| {
+                    let hit = match l {
+                        Leaf::Refs(refs) => refs.iter().any(|&r| hits(r)),
+                        Leaf::Grouped { child, count } => self
+                            .any_grouped::<WATERTIGHT, KINDS>(child, count, &rd, limit)
+                            .is_some(),
+                    };
+                    hit.then_some(limit)
+                };
                 if self.wide {
                     bvh.traverse4::<T, true>(&rd.traversal, limit, leaf)
                 } else {
-                    bvh.traverse::<T, true>(&rd.traversal, limit, leaf)
+                    bvh.traverse::<T, true>(&rd.traversal, limit, |refs: &[u32], t| {
+                        leaf(Leaf::Refs(refs), t)
+                    })
                 }
             }
             None => self.all_refs().any(hits),
