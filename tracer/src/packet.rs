@@ -39,8 +39,8 @@ impl Default for Packets {
 
 impl Packets {
     /// Packets of the widest instruction set of the running CPU when that is AVX2 or
-    /// AVX-512; off on a CPU with SSE2 only (where four-ray packets over the binary tree
-    /// measured slower than single rays over the four-wide one) and off x86-64.
+    /// AVX-512; off on a CPU with SSE2 only (where packets of four rays execute 0.84 to
+    /// 1.10 times the instructions of single rays, so no clear gain) and off x86-64.
     pub fn auto() -> Self {
         match Isa::detect() {
             Some(isa) if isa >= Isa::Avx2 => Self::On(isa),
@@ -194,23 +194,23 @@ fn block_rays(
     rays
 }
 
-/// Traces one packet of eye rays with `isa`: the hits of [`block_rays`].
+/// Traces one packet of eye rays with `isa` into `out`: the hits of [`block_rays`].
+/// (An out-parameter: the kilobyte of hit records is written once, where it is kept.)
 #[inline]
 fn trace_block(
     geometry: &Geometry<f32>,
     isa: Isa,
     rays: &[Option<Ray<f32>>; MAX_LANES],
-) -> Block<f32> {
-    let mut out = [None; MAX_LANES];
+    out: &mut Block<f32>,
+) {
     dispatch(
         isa,
         EyeKernel {
             geometry,
             rays,
-            out: &mut out,
+            out,
         },
     );
-    out
 }
 
 /// Runs [`Geometry::occluded_packet`] on one packet.
@@ -295,13 +295,14 @@ pub(crate) fn eye_block<T: Real>(
     let scene = (scene as &dyn Any).downcast_ref::<Scene<f32>>().expect(F32);
     let cam = (cam as &dyn Any).downcast_ref::<Camera<f32>>().expect(F32);
     let rays = block_rays(cam, grid, block_shape(isa), size, block);
-    let hits = trace_block(&scene.geometry, isa, &rays);
+    let mut hits = [None; MAX_LANES];
+    trace_block(&scene.geometry, isa, &rays, &mut hits);
     (same_type(rays).expect(F32), same_type(hits).expect(F32))
 }
 
 /// Are the shadow rays of eye hits traced in packets ([`shadow_block`]) for `scene`?
 /// When it has no cones: the packet kernels test spheres and triangles, while each ray
-/// of a packet meets a cone alone, over the binary tree and without the shadow cache
+/// of a packet meets a cone alone, by its single-ray test and without the shadow cache
 /// of single rays, which measured slower on rings-s7 (4,200 cylinders; see
 /// `tracer/RESULTS.md`, "Packets on triangle scenes and shadow packets").
 pub(crate) fn shadow_packets<T: Real>(scene: &Scene<T>) -> bool {
@@ -394,7 +395,9 @@ impl Scene<f32> {
         isa: Isa,
         rays: &[Option<Ray<f32>>; MAX_LANES],
     ) -> [Option<Hit<f32>>; MAX_LANES] {
-        trace_block(&self.geometry, isa, rays)
+        let mut hits = [None; MAX_LANES];
+        trace_block(&self.geometry, isa, rays, &mut hits);
+        hits
     }
 }
 
@@ -450,7 +453,7 @@ impl EyePackets {
             .par_iter_mut()
             .zip(self.rays.par_iter())
             .with_min_len(16)
-            .for_each(|(b, rays)| *b = trace_block(&scene.geometry, isa, rays));
+            .for_each(|(b, rays)| trace_block(&scene.geometry, isa, rays, b));
     }
 
     /// The hit of the eye ray of pixel `(x, y)` from the last [`EyePackets::cast`].

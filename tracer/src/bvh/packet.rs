@@ -1,4 +1,4 @@
-//! Packet traversal of the binary BVH: one SIMD lane per ray.
+//! Packet traversal of the BVH: one SIMD lane per ray.
 //!
 //! In the style of I. Wald, P. Slusallek, C. Benthin, M. Wagner, "Interactive Rendering
 //! with Coherent Ray Tracing", Eurographics 2001: a packet of coherent rays walks the
@@ -6,12 +6,19 @@
 //! and a mask carries which rays take part. Each node's box is tested against every ray
 //! at once with the same conservative slab test as [`TraversalRay::hit_box`] (Ize 2013),
 //! lane by lane and operation by operation, so lane `i` accepts a box exactly when the
-//! single ray `i` does; the leaf sees the rays that accept its box. Children are visited
-//! nearest first by the entry distance of the first ray that hits both; the other child
-//! is pushed with its mask and, on pop, its box is tested again with the rays' closest
-//! hits so far, so each ray leaves the mask when its hit lies before the box (a test at
-//! least as tight as the single-ray pop test, and as conservative). The stack holds no
-//! per-lane distances, which keeps it small.
+//! single ray `i` does; the leaf sees the rays that accept its box.
+//!
+//! - [`Bvh::traverse4_packet`] (the default) walks the four-wide tree: the packet tests
+//!   the children of a node one after the other, each against all its rays, pushes the
+//!   children it does not visit first with their rays and entry distances, and hands
+//!   the rays over to single-ray traversal of a subtree where only a few of them reach
+//!   it. Compared with the binary walk: 8-14 % fewer instructions for packets of four
+//!   (SSE2), the same within 3 % for packets of eight (AVX2) on the classic scenes.
+//! - [`Bvh::traverse_packet`] walks the binary tree (`--binary-bvh`): children are
+//!   visited nearest first by the entry distance of the first ray that hits both; the
+//!   other child is pushed with its mask and, on pop, its box is tested again with the
+//!   rays' closest hits so far, so each ray leaves the mask when its hit lies before the
+//!   box (a test at least as tight as the single-ray pop test, and as conservative).
 //!
 //! The closest hit the geometry reports does not depend on the visiting order (ties are
 //! broken by primitive index), and a ray takes part in every leaf its own traversal
@@ -19,7 +26,9 @@
 //! is the single ray's, bit for bit.
 
 use super::traverse::TraversalRay;
+use super::wide::{Leaf, Node4, EMPTY_SLOT, WIDTH};
 use super::Bvh;
+use core::mem::MaybeUninit;
 use vecexpr::simd::{SimdF32, SimdMask};
 use vecexpr::{Mask, Scalar};
 
@@ -109,19 +118,17 @@ impl<S: SimdF32> PacketRay<S> {
 const STACK_SIZE: usize = super::build::MAX_DEPTH;
 
 impl Bvh {
-    /// Walks the binary tree with a packet: calls `leaf(refs, mask, t_max)` for each leaf
-    /// whose box some active ray overlaps before its `t_max`, with the mask of those
-    /// rays; `leaf` returns the rays' new `t_max` (their closest hits so far; a lane set
-    /// to $-\infty$ leaves the traversal), or `None` to end the traversal (every ray is
-    /// done, as for an any-hit query whose rays are all blocked). Rays outside `active`
-    /// never take part. Returns the final `t_max`.
+    /// Walks the binary tree with a packet: calls `visit.leaf` for each leaf whose box
+    /// some active ray overlaps before its `t_max`, with the lanes of those rays (as
+    /// [`Bvh::traverse4_packet`] does; the binary walk never hands rays over). Rays
+    /// outside `active` never take part. Returns the final `t_max`.
     #[inline(always)]
     pub fn traverse_packet<S: SimdF32>(
         &self,
         ray: &PacketRay<S>,
         active: S::Mask,
         mut t_max: S,
-        mut leaf: impl FnMut(&[u32], S::Mask, S) -> Option<S>,
+        visit: &mut impl PacketVisitor<S>,
     ) -> S {
         let nodes = self.nodes();
         let Some(root) = nodes.first() else {
@@ -141,7 +148,7 @@ impl Bvh {
             if node.is_leaf() {
                 let first = node.offset as usize;
                 let refs = &self.refs()[first..first + node.count as usize];
-                match leaf(refs, mask, t_max) {
+                match visit.leaf(Leaf::Refs(refs), mask.bitmask(), t_max) {
                     Some(t) => t_max = t,
                     None => return t_max,
                 }
@@ -201,6 +208,189 @@ impl Bvh {
                 }
             }
         }
+    }
+}
+
+/// The four-wide traversal's stack: entries pushed with the packet's lanes that hit
+/// them and those lanes' entry distances.
+const STACK4_SIZE: usize = super::wide::STACK_SIZE;
+
+/// What [`Bvh::traverse4_packet`] asks of its caller: each method returns the rays' new
+/// `t_max` (a lane set to $-\infty$ takes no further part), or `None` to end the
+/// traversal (every ray done).
+///
+/// A trait rather than closures so that the methods can be `#[inline(always)]`: a
+/// closure is inlined at the compiler's discretion, and one left out of line is not
+/// compiled for the instruction set of the `#[target_feature]` entry point it was
+/// written in, so its lane operations become calls.
+pub trait PacketVisitor<S: SimdF32> {
+    /// Tests a leaf against the rays of `lanes` (bits), those that reach it.
+    fn leaf(&mut self, leaf: Leaf<'_>, lanes: u32, t_max: S) -> Option<S>;
+    /// Traces the rays of `lanes` alone through the subtree of wide node `node`
+    /// ([`Bvh::traverse4_from`]): few rays of the packet are left.
+    fn handover(&mut self, node: u32, lanes: u32, t_max: S) -> Option<S>;
+}
+
+impl<S: SimdF32> PacketRay<S> {
+    /// [`PacketRay::hit_box`] for slot `i` of a four-wide node, for rays whose direction
+    /// signs are `neg` on every lane (so near and far planes are picked once for all of
+    /// them, with no per-lane select): lane by lane the operations of
+    /// [`TraversalRay::hit_box`].
+    #[inline(always)]
+    fn hit_slot(&self, neg: [usize; 3], node: &Node4, i: usize, t_max: S) -> (S::Mask, S) {
+        let mut t_near = self.t_min;
+        let mut t_far = t_max;
+        for (a, &n) in neg.iter().enumerate() {
+            let near = S::splat(node.bounds[n][a][i]);
+            let far = S::splat(node.bounds[1 - n][a][i]);
+            let tn = (near - self.origin[a]) * self.inv_dir[a];
+            let tf = (far - self.origin[a]) * self.inv_dir[a];
+            // minps/maxps rule: a NaN `tn`/`tf` leaves the running value unchanged.
+            t_near = Scalar::max(tn, t_near);
+            t_far = Scalar::min(tf, t_far);
+        }
+        (t_near.le(t_far * self.slack), t_near)
+    }
+}
+
+impl Bvh {
+    /// Walks the four-wide tree with a packet (Wald et al. 2001 over the wide nodes, as
+    /// Embree's hybrid traversal does: I. Wald et al., "Embree: A Kernel Framework for
+    /// Efficient CPU Ray Tracing", ACM TOG 33(4), 2014, section 5).
+    ///
+    /// The rays of `active` (bits) are split by octant (the signs of their direction),
+    /// and each octant's rays walk together, so the near and far plane of every axis
+    /// is the same for all of them. At a node the packet tests each child's box (one
+    /// SIMD test over the rays per child); the children some ray hits are visited, one
+    /// at once and the others pushed with the lanes that hit them and their entry
+    /// distances. A child is visited before a pending one when it is nearer for some ray
+    /// both contain. A popped entry keeps the lanes whose entry distance is within
+    /// their closest hit so far (the single-ray pop test, lane by lane).
+    ///
+    /// `visit` is called with [`PacketVisitor::leaf`] for a leaf some of the rays
+    /// reach, and with [`PacketVisitor::handover`] at an interior node reached by at
+    /// most `switch` rays: the packet hands those rays over to traverse the subtree
+    /// alone (their single-ray traversal, [`Bvh::traverse4_from`]), which pays where few
+    /// rays are left (Benthin et al., "Combining Single and Packet-Ray Tracing for
+    /// Arbitrary Ray Distributions on the Intel MIC Architecture", IEEE TVCG 18(9),
+    /// 2012).
+    ///
+    /// Every ray takes part in each leaf its own traversal would reach with its current
+    /// closest distance or a larger one, so what the geometry finds for each lane is
+    /// the single ray's result. Returns the final `t_max`.
+    #[inline(always)]
+    pub fn traverse4_packet<S: SimdF32>(
+        &self,
+        ray: &PacketRay<S>,
+        active: u32,
+        mut t_max: S,
+        switch: u32,
+        visit: &mut impl PacketVisitor<S>,
+    ) -> S {
+        let nodes: &[Node4] = self.wide_nodes();
+        if nodes.is_empty() {
+            return t_max;
+        }
+        let neg_bits = [
+            ray.neg[0].bitmask(),
+            ray.neg[1].bitmask(),
+            ray.neg[2].bitmask(),
+        ];
+        // Left uninitialised: only the entries below `sp` are ever read.
+        let mut stack_t = [const { MaybeUninit::<S>::uninit() }; STACK4_SIZE];
+        let mut stack_e = [const { MaybeUninit::<(u32, u32, u32)>::uninit() }; STACK4_SIZE];
+        let mut rest = active;
+        while rest != 0 {
+            // The lanes of the first remaining ray's octant.
+            let l = rest.trailing_zeros();
+            let neg = neg_bits.map(|b| (b >> l & 1) as usize);
+            let mut lanes = rest;
+            for (&b, &n) in neg_bits.iter().zip(&neg) {
+                lanes &= if n == 1 { b } else { !b };
+            }
+            rest &= !lanes;
+            // The entry being visited: (child, count, lanes).
+            let (mut child, mut count, mut mask) = (0u32, 0u32, lanes);
+            let mut sp = 0usize;
+            loop {
+                if count == 0 {
+                    if mask.count_ones() <= switch {
+                        match visit.handover(child, mask, t_max) {
+                            Some(t) => t_max = t,
+                            None => return t_max,
+                        }
+                    } else {
+                        let node = &nodes[child as usize];
+                        // The child to visit next: (child, count, lanes) and distances.
+                        let mut next: Option<((u32, u32, u32), S)> = None;
+                        for i in 0..WIDTH {
+                            if node.child[i] == EMPTY_SLOT {
+                                break;
+                            }
+                            let (hit, tn) = ray.hit_slot(neg, node, i, t_max);
+                            let hm = hit.bitmask() & mask;
+                            if hm == 0 {
+                                continue;
+                            }
+                            let e = ((node.child[i], node.count[i], hm), tn);
+                            let push = match next {
+                                None => {
+                                    next = Some(e);
+                                    continue;
+                                }
+                                // Visit the new child first when it is nearer for some
+                                // ray that hits both.
+                                Some(cur) if tn.lt(cur.1).bitmask() & hm & cur.0 .2 != 0 => {
+                                    next = Some(e);
+                                    cur
+                                }
+                                Some(_) => e,
+                            };
+                            stack_e[sp].write(push.0);
+                            stack_t[sp].write(push.1);
+                            sp += 1;
+                        }
+                        if let Some(((c, n, m), _)) = next {
+                            (child, count, mask) = (c, n, m);
+                            continue;
+                        }
+                    }
+                } else {
+                    match visit.leaf(self.leaf(child, count), mask, t_max) {
+                        Some(t) => t_max = t,
+                        None => return t_max,
+                    }
+                }
+                // Pop the next pending entry some of whose rays may still find a
+                // closer hit in it.
+                let limit = t_max * ray.slack;
+                let mut popped = false;
+                loop {
+                    if sp == 0 {
+                        break;
+                    }
+                    sp -= 1;
+                    // SAFETY: every slot below `sp` was written by a push above, and
+                    // both types are `Copy`, so reading them out leaves the slots valid.
+                    let (t, (c, n, m)) = unsafe {
+                        (
+                            stack_t[sp].assume_init_read(),
+                            stack_e[sp].assume_init_read(),
+                        )
+                    };
+                    let m = m & t.le(limit).bitmask();
+                    if m != 0 {
+                        (child, count, mask) = (c, n, m);
+                        popped = true;
+                        break;
+                    }
+                }
+                if !popped {
+                    break;
+                }
+            }
+        }
+        t_max
     }
 }
 

@@ -438,12 +438,7 @@ impl<T: Real> Geometry<T> {
         let hit = match &self.bvh {
             Some(bvh) => {
                 let mut leaf = |l: Leaf<'_>, _| {
-                    found = match l {
-                        Leaf::Refs(refs) => *refs.iter().find(|&&r| hits(r))?,
-                        Leaf::Grouped { child, count } => {
-                            self.any_grouped::<WATERTIGHT, KINDS>(child, count, &rd, limit)?
-                        }
-                    };
+                    found = self.leaf_any::<WATERTIGHT, KINDS>(l, &rd, limit)?;
                     Some(limit)
                 };
                 if self.wide {
@@ -587,6 +582,51 @@ impl<T: Real> Geometry<T> {
         None
     }
 
+    /// The closest-hit loop over one leaf: offers every hit within `best.t`; whether
+    /// `best` changed.
+    #[inline(always)]
+    fn leaf_closest<const WATERTIGHT: bool, const KINDS: u32>(
+        &self,
+        l: Leaf<'_>,
+        rd: &RayData<T>,
+        best: &mut Best<T>,
+    ) -> bool {
+        match l {
+            Leaf::Refs(refs) => {
+                let mut improved = false;
+                for &r in refs {
+                    if let Some(h) = self.test::<WATERTIGHT, KINDS>(r, rd, best.t) {
+                        improved |= self.offer(best, r, h);
+                    }
+                }
+                improved
+            }
+            Leaf::Grouped { child, count } => {
+                self.closest_grouped::<WATERTIGHT, KINDS>(child, count, rd, best)
+            }
+        }
+    }
+
+    /// The any-hit loop over one leaf: the reference of a primitive hit within
+    /// `limit`, if any.
+    #[inline(always)]
+    fn leaf_any<const WATERTIGHT: bool, const KINDS: u32>(
+        &self,
+        l: Leaf<'_>,
+        rd: &RayData<T>,
+        limit: T,
+    ) -> Option<u32> {
+        match l {
+            Leaf::Refs(refs) => refs
+                .iter()
+                .copied()
+                .find(|&r| self.test::<WATERTIGHT, KINDS>(r, rd, limit).is_some()),
+            Leaf::Grouped { child, count } => {
+                self.any_grouped::<WATERTIGHT, KINDS>(child, count, rd, limit)
+            }
+        }
+    }
+
     /// Keeps the hit if it is closer, or equally close and given earlier.
     #[inline(always)]
     fn offer(&self, best: &mut Best<T>, r: u32, (t, b1, b2): (T, T, T)) -> bool {
@@ -632,21 +672,8 @@ impl<T: Real> Geometry<T> {
             Some(bvh) => {
                 let t0 = best.t;
                 let mut leaf = |l: Leaf<'_>, _| {
-                    let mut improved = false;
-                    match l {
-                        Leaf::Refs(refs) => {
-                            for &r in refs {
-                                if let Some(h) = self.test::<WATERTIGHT, KINDS>(r, &rd, best.t) {
-                                    improved |= self.offer(&mut best, r, h);
-                                }
-                            }
-                        }
-                        Leaf::Grouped { child, count } => {
-                            improved = self
-                                .closest_grouped::<WATERTIGHT, KINDS>(child, count, &rd, &mut best);
-                        }
-                    }
-                    improved.then_some(best.t)
+                    self.leaf_closest::<WATERTIGHT, KINDS>(l, &rd, &mut best)
+                        .then_some(best.t)
                 };
                 if self.wide {
                     bvh.traverse4::<T, false>(&rd.traversal, t0, leaf);
@@ -685,13 +712,8 @@ impl<T: Real> Geometry<T> {
         match &self.bvh {
             Some(bvh) => {
                 let leaf = |l: Leaf<'_>, _| {
-                    let hit = match l {
-                        Leaf::Refs(refs) => refs.iter().any(|&r| hits(r)),
-                        Leaf::Grouped { child, count } => self
-                            .any_grouped::<WATERTIGHT, KINDS>(child, count, &rd, limit)
-                            .is_some(),
-                    };
-                    hit.then_some(limit)
+                    self.leaf_any::<WATERTIGHT, KINDS>(l, &rd, limit)
+                        .map(|_| limit)
                 };
                 if self.wide {
                     bvh.traverse4::<T, true>(&rd.traversal, limit, leaf)

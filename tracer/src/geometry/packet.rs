@@ -1,7 +1,9 @@
 //! Closest hits of a packet of rays, one SIMD lane per ray, bit-identical to
 //! [`Geometry::intersect`] ray by ray.
 //!
-//! The packet walks the binary BVH together ([`crate::bvh::packet`]); in a leaf, spheres
+//! The packet walks the BVH together ([`crate::bvh::packet`]: the four-wide tree, handing
+//! its rays over to their single-ray traversal of a subtree where at most [`switch`] of
+//! them reach it, or the binary tree with `--binary-bvh`); in a leaf, spheres
 //! and triangles are tested against every ray of the packet at once with the formulas
 //! of the single-ray kernels ([`super::sphere`], [`super::triangle`]) written over the
 //! lane type, operation for operation and in the same order (no fused multiply-add
@@ -24,8 +26,10 @@
 
 use super::ray_data::RayData;
 use super::storage::{make_ref, INDEX_MASK, PLANE, SPHERE, TAG_SHIFT, TRIANGLE};
+use super::triangle::TRI4_LANES;
 use super::{kinds, Best, Geometry, Sphere, Triangle, TriangleTest, NO_HIT};
-use crate::bvh::packet::PacketRay;
+use crate::bvh::packet::{PacketRay, PacketVisitor};
+use crate::bvh::wide::Leaf;
 use crate::ray::{Hit, Ray};
 use vecexpr::simd::{SimdF32, SimdMask};
 use vecexpr::{vec3, Expr, Mask, Vec3};
@@ -190,10 +194,14 @@ fn put_lane(buf: &mut [[f32; MAX_LANES]; row::ROWS], l: usize, r: &RayData<f32>)
     buf[row::T_LIMIT][l] = r.t_limit;
 }
 
+/// Each lane's [`RayData`]: the caller's array, filled by [`Setup::new`] (kept out of
+/// `Setup` so that the 2 KB of records are written once, in place, and never moved).
+type LaneData = [Option<RayData<f32>>; MAX_LANES];
+
 /// A packet's rays prepared once for all its tests: each ray's [`RayData`] (for the
 /// single-ray kernels and the hit records) and the same values lane by lane.
-struct Setup<S: SimdF32> {
-    rd: [Option<RayData<f32>>; MAX_LANES],
+struct Setup<'a, S: SimdF32> {
+    rd: &'a LaneData,
     /// Lanes with a valid ray.
     valid: u32,
     ray: PacketRay<S>,
@@ -202,29 +210,29 @@ struct Setup<S: SimdF32> {
     t_limit: S,
 }
 
-impl<S: SimdF32> Setup<S> {
+impl<'a, S: SimdF32> Setup<'a, S> {
     /// `None` when no lane of `rays[..S::LANES]` holds a valid ray. One pass over the
-    /// rays fills a buffer row by lane value (lanes without a ray copy the first valid
-    /// ray), which is then loaded row by row.
+    /// rays fills `rd` and a buffer row by lane value (lanes without a ray copy the
+    /// first valid ray), which is then loaded row by row.
     #[inline(always)]
-    fn new(rays: &[Option<Ray<f32>>]) -> Option<Self> {
+    fn new(rays: &[Option<Ray<f32>>], rd: &'a mut LaneData) -> Option<Self> {
         let n = S::LANES;
-        let mut rd: [Option<RayData<f32>>; MAX_LANES] = [None; MAX_LANES];
         let mut buf = [[0.0f32; MAX_LANES]; row::ROWS];
         let mut valid = 0u32;
         for (l, (slot, ray)) in rd[..n].iter_mut().zip(&rays[..n]).enumerate() {
-            if let Some(r) = ray.as_ref().and_then(RayData::new) {
-                put_lane(&mut buf, l, &r);
+            *slot = ray.as_ref().and_then(RayData::new);
+            if let Some(r) = slot {
+                put_lane(&mut buf, l, r);
                 valid |= 1 << l;
-                *slot = Some(r);
             }
         }
         if valid == 0 {
             return None;
         }
-        let fill = rd[valid.trailing_zeros() as usize]?;
+        let rd: &'a LaneData = rd;
+        let fill = rd[valid.trailing_zeros() as usize].as_ref()?;
         let all = if n >= 32 { u32::MAX } else { (1u32 << n) - 1 };
-        each_lane(all & !valid, |l| put_lane(&mut buf, l, &fill));
+        each_lane(all & !valid, |l| put_lane(&mut buf, l, fill));
         let mut same_axes = true;
         each_lane(valid, |l| {
             let s = rd[l].as_ref().map(|r| &r.shear);
@@ -300,6 +308,186 @@ impl Geometry<f32> {
         }
     }
 
+    /// The closest-hit test of primitive `r` against the lanes `m` of the packet:
+    /// offers each lane's hit to its record in `best` and returns the lanes' new
+    /// `t_max`. A kernel hit lies in `(t_min, best.t]`: it either becomes the best or
+    /// ties with it, so the lane's new closest distance is the hit's.
+    #[inline(always)]
+    fn packet_closest<S: SimdF32>(
+        &self,
+        r: u32,
+        m: u32,
+        su: &Setup<'_, S>,
+        best: &mut [Best<f32>; MAX_LANES],
+        t_max: S,
+    ) -> S {
+        let i = (r & INDEX_MASK) as usize;
+        let pd = &su.pd;
+        match r >> TAG_SHIFT {
+            SPHERE => {
+                let (hit, t) = sphere_packet(&self.prims.spheres[i], pd, t_max);
+                let bits = hit.bitmask() & m;
+                if bits == 0 {
+                    return t_max;
+                }
+                let mut ts = [0.0f32; MAX_LANES];
+                t.store(&mut ts);
+                each_lane(bits, |l| {
+                    self.offer(&mut best[l], r, (ts[l], 0.0, 0.0));
+                });
+                S::select(S::Mask::from_bitmask(bits), t, t_max)
+            }
+            TRIANGLE => {
+                let Some(sh) = &pd.shear else {
+                    return if self.single_closest(r, m, su, best) {
+                        best_t::<S>(best)
+                    } else {
+                        t_max
+                    };
+                };
+                let h = triangle_packet(&self.prims.triangles[i], pd, sh, t_max);
+                let bits = h.hit.bitmask() & m;
+                let mut t_max = t_max;
+                if bits != 0 {
+                    let mut tb = [[0.0f32; MAX_LANES]; 3];
+                    h.t.store(&mut tb[0]);
+                    h.b1.store(&mut tb[1]);
+                    h.b2.store(&mut tb[2]);
+                    each_lane(bits, |l| {
+                        let hit = (tb[0][l], tb[1][l], tb[2][l]);
+                        self.offer(&mut best[l], r, hit);
+                    });
+                    t_max = S::select(S::Mask::from_bitmask(bits), h.t, t_max);
+                }
+                let exact = h.exact.bitmask() & m;
+                if exact != 0 && self.single_closest(r, exact, su, best) {
+                    t_max = best_t::<S>(best);
+                }
+                t_max
+            }
+            _ => {
+                if self.single_closest(r, m, su, best) {
+                    best_t::<S>(best)
+                } else {
+                    t_max
+                }
+            }
+        }
+    }
+
+    /// The single-ray test and offer of primitive `r` for the lanes in `bits`; whether
+    /// any record changed.
+    #[inline(always)]
+    fn single_closest<S: SimdF32>(
+        &self,
+        r: u32,
+        bits: u32,
+        su: &Setup<'_, S>,
+        best: &mut [Best<f32>; MAX_LANES],
+    ) -> bool {
+        let mut improved = false;
+        each_lane(bits, |l| {
+            let b = &mut best[l];
+            if let Some(h) = self.test::<true, { kinds::ALL }>(r, su.lane(l), b.t) {
+                improved |= self.offer(b, r, h);
+            }
+        });
+        improved
+    }
+
+    /// The closest-hit tests of one leaf against the lanes `m`; the new `t_max`.
+    #[inline(always)]
+    fn packet_leaf_closest<S: SimdF32>(
+        &self,
+        leaf: Leaf<'_>,
+        m: u32,
+        su: &Setup<'_, S>,
+        best: &mut [Best<f32>; MAX_LANES],
+        mut t_max: S,
+    ) -> S {
+        match leaf {
+            Leaf::Refs(refs) => {
+                for &r in refs {
+                    t_max = self.packet_closest(r, m, su, best, t_max);
+                }
+            }
+            Leaf::Grouped { child, count } => {
+                for (g, k) in self.groups(child, count).iter().zip((0..count).step_by(4)) {
+                    for &i in &g.index[..(count - k).min(TRI4_LANES as u32) as usize] {
+                        let r = make_ref(TRIANGLE, i as usize);
+                        t_max = self.packet_closest(r, m, su, best, t_max);
+                    }
+                }
+            }
+        }
+        t_max
+    }
+
+    /// The any-hit test of primitive `r` against the lanes `m`: the lanes it blocks.
+    #[inline(always)]
+    fn packet_any<S: SimdF32>(&self, r: u32, m: u32, su: &Setup<'_, S>) -> u32 {
+        let i = (r & INDEX_MASK) as usize;
+        let pd = &su.pd;
+        let single = |bits: u32| {
+            let mut found = 0u32;
+            each_lane(bits, |l| {
+                let rd = su.lane(l);
+                let hit = self
+                    .test::<true, { kinds::ALL }>(r, rd, rd.t_limit)
+                    .is_some();
+                found |= u32::from(hit) << l;
+            });
+            found
+        };
+        match r >> TAG_SHIFT {
+            SPHERE => {
+                let (hit, _) = sphere_packet(&self.prims.spheres[i], pd, su.t_limit);
+                hit.bitmask() & m
+            }
+            TRIANGLE => match &pd.shear {
+                Some(sh) => {
+                    let h = triangle_packet(&self.prims.triangles[i], pd, sh, su.t_limit);
+                    let done = h.hit.bitmask() & m;
+                    done | single(h.exact.bitmask() & m & !done)
+                }
+                None => single(m),
+            },
+            _ => single(m),
+        }
+    }
+
+    /// The any-hit tests of one leaf against the lanes `m` (none of them blocked yet):
+    /// the lanes it blocks.
+    #[inline(always)]
+    fn packet_leaf_any<S: SimdF32>(&self, leaf: Leaf<'_>, mut m: u32, su: &Setup<'_, S>) -> u32 {
+        let mut done = 0u32;
+        match leaf {
+            Leaf::Refs(refs) => {
+                for &r in refs {
+                    if m == 0 {
+                        break;
+                    }
+                    let d = self.packet_any(r, m, su);
+                    done |= d;
+                    m &= !d;
+                }
+            }
+            Leaf::Grouped { child, count } => {
+                for (g, k) in self.groups(child, count).iter().zip((0..count).step_by(4)) {
+                    for &i in &g.index[..(count - k).min(TRI4_LANES as u32) as usize] {
+                        if m == 0 {
+                            return done;
+                        }
+                        let d = self.packet_any(make_ref(TRIANGLE, i as usize), m, su);
+                        done |= d;
+                        m &= !d;
+                    }
+                }
+            }
+        }
+        done
+    }
+
     /// The closest hit of each ray of a packet of `S::LANES` rays: `out[i]` is what
     /// [`Geometry::intersect`] returns for `rays[i]` (`None` where `rays[i]` is `None`),
     /// bit for bit. Meant to be called inside [`vecexpr::simd::Isa::dispatch`], so the
@@ -313,6 +501,18 @@ impl Geometry<f32> {
         rays: &[Option<Ray<f32>>],
         out: &mut [Option<Hit<f32>>],
     ) {
+        self.intersect_packet_switch::<S>(rays, out, switch(S::LANES));
+    }
+
+    /// [`Geometry::intersect_packet`], handing rays over to single-ray traversal where
+    /// at most `switch` of them are left ([`crate::bvh::Bvh::traverse4_packet`]).
+    #[inline(always)]
+    pub(crate) fn intersect_packet_switch<S: SimdF32>(
+        &self,
+        rays: &[Option<Ray<f32>>],
+        out: &mut [Option<Hit<f32>>],
+        switch: u32,
+    ) {
         let n = S::LANES;
         assert!(n <= MAX_LANES && rays.len() >= n && out.len() >= n);
         let Some(bvh) = self.packet_bvh() else {
@@ -321,7 +521,8 @@ impl Geometry<f32> {
             }
             return;
         };
-        let Some(su) = Setup::<S>::new(rays) else {
+        let mut rd: LaneData = [None; MAX_LANES];
+        let Some(su) = Setup::<S>::new(rays, &mut rd) else {
             out[..n].fill(None);
             return;
         };
@@ -346,77 +547,17 @@ impl Geometry<f32> {
             });
             t0 = best_t::<S>(&best);
         }
-        let pd = &su.pd;
-        bvh.traverse_packet(
-            &su.ray,
-            S::Mask::from_bitmask(su.valid),
-            t0,
-            |refs, mask, mut t_max| {
-                let m = mask.bitmask();
-                for &r in refs {
-                    let i = (r & INDEX_MASK) as usize;
-                    // The single-ray test and offer for the lanes in `bits`.
-                    let single = |bits: u32, best: &mut [Best<f32>; MAX_LANES]| {
-                        let mut improved = false;
-                        each_lane(bits, |l| {
-                            let b = &mut best[l];
-                            if let Some(h) = self.test::<true, { kinds::ALL }>(r, su.lane(l), b.t) {
-                                improved |= self.offer(b, r, h);
-                            }
-                        });
-                        improved
-                    };
-                    // A kernel hit lies in (t_min, best.t]: it either becomes the best
-                    // or ties with it, so the lane's new best distance is the hit's.
-                    match r >> TAG_SHIFT {
-                        SPHERE => {
-                            let (hit, t) = sphere_packet(&self.prims.spheres[i], pd, t_max);
-                            let bits = hit.bitmask() & m;
-                            if bits != 0 {
-                                let mut ts = [0.0f32; MAX_LANES];
-                                t.store(&mut ts);
-                                each_lane(bits, |l| {
-                                    self.offer(&mut best[l], r, (ts[l], 0.0, 0.0));
-                                });
-                                t_max = S::select(S::Mask::from_bitmask(bits), t, t_max);
-                            }
-                        }
-                        TRIANGLE => match &pd.shear {
-                            Some(sh) => {
-                                let h = triangle_packet(&self.prims.triangles[i], pd, sh, t_max);
-                                let bits = h.hit.bitmask() & m;
-                                if bits != 0 {
-                                    let mut tb = [[0.0f32; MAX_LANES]; 3];
-                                    h.t.store(&mut tb[0]);
-                                    h.b1.store(&mut tb[1]);
-                                    h.b2.store(&mut tb[2]);
-                                    each_lane(bits, |l| {
-                                        let hit = (tb[0][l], tb[1][l], tb[2][l]);
-                                        self.offer(&mut best[l], r, hit);
-                                    });
-                                    t_max = S::select(S::Mask::from_bitmask(bits), h.t, t_max);
-                                }
-                                let exact = h.exact.bitmask() & m;
-                                if exact != 0 && single(exact, &mut best) {
-                                    t_max = best_t::<S>(&best);
-                                }
-                            }
-                            None => {
-                                if single(m, &mut best) {
-                                    t_max = best_t::<S>(&best);
-                                }
-                            }
-                        },
-                        _ => {
-                            if single(m, &mut best) {
-                                t_max = best_t::<S>(&best);
-                            }
-                        }
-                    }
-                }
-                Some(t_max)
-            },
-        );
+        let mut v = Closest {
+            geometry: self,
+            bvh,
+            su: &su,
+            best: &mut best,
+        };
+        if self.wide {
+            bvh.traverse4_packet(&su.ray, su.valid, t0, switch, &mut v);
+        } else {
+            bvh.traverse_packet(&su.ray, S::Mask::from_bitmask(su.valid), t0, &mut v);
+        }
         for (l, o) in out[..n].iter_mut().enumerate() {
             *o = match &su.rd[l] {
                 Some(r) if best[l].r != NO_HIT => {
@@ -437,6 +578,17 @@ impl Geometry<f32> {
     /// If `rays` or `out` is shorter than `S::LANES`, or `S::LANES > 16`.
     #[inline(always)]
     pub fn occluded_packet<S: SimdF32>(&self, rays: &[Option<Ray<f32>>], out: &mut [bool]) {
+        self.occluded_packet_switch::<S>(rays, out, switch(S::LANES));
+    }
+
+    /// [`Geometry::occluded_packet`] with the hand-over threshold `switch`.
+    #[inline(always)]
+    pub(crate) fn occluded_packet_switch<S: SimdF32>(
+        &self,
+        rays: &[Option<Ray<f32>>],
+        out: &mut [bool],
+        switch: u32,
+    ) {
         let n = S::LANES;
         assert!(n <= MAX_LANES && rays.len() >= n && out.len() >= n);
         let Some(bvh) = self.packet_bvh() else {
@@ -446,69 +598,239 @@ impl Geometry<f32> {
             return;
         };
         out[..n].fill(false);
-        let Some(su) = Setup::<S>::new(rays) else {
+        let mut rd: LaneData = [None; MAX_LANES];
+        let Some(su) = Setup::<S>::new(rays, &mut rd) else {
             return;
         };
         // Blocked lanes.
         let mut done = 0u32;
-        let hits = |r: u32, l: usize| {
-            let rd = su.lane(l);
-            self.test::<true, { kinds::ALL }>(r, rd, rd.t_limit)
-                .is_some()
-        };
         if !self.prims.planes.is_empty() {
             each_lane(su.valid, |l| {
-                if (0..self.prims.planes.len()).any(|i| hits(make_ref(PLANE, i), l)) {
-                    done |= 1 << l;
-                }
+                let rd = su.lane(l);
+                let blocked = (0..self.prims.planes.len()).any(|i| {
+                    self.test::<true, { kinds::ALL }>(make_ref(PLANE, i), rd, rd.t_limit)
+                        .is_some()
+                });
+                done |= u32::from(blocked) << l;
             });
         }
         let active = su.valid & !done;
         if active != 0 {
-            let pd = &su.pd;
-            let gone = S::splat(f32::NEG_INFINITY);
-            bvh.traverse_packet(
-                &su.ray,
-                S::Mask::from_bitmask(active),
-                su.t_limit,
-                |refs, mask, t_max| {
-                    let mut m = mask.bitmask() & !done;
-                    for &r in refs {
-                        if m == 0 {
-                            break;
-                        }
-                        let i = (r & INDEX_MASK) as usize;
-                        let single = |bits: u32| {
-                            let mut found = 0u32;
-                            each_lane(bits, |l| found |= u32::from(hits(r, l)) << l);
-                            found
-                        };
-                        match r >> TAG_SHIFT {
-                            SPHERE => {
-                                let (hit, _) = sphere_packet(&self.prims.spheres[i], pd, t_max);
-                                done |= hit.bitmask() & m;
-                            }
-                            TRIANGLE => match &pd.shear {
-                                Some(sh) => {
-                                    let h =
-                                        triangle_packet(&self.prims.triangles[i], pd, sh, t_max);
-                                    done |= h.hit.bitmask() & m;
-                                    done |= single(h.exact.bitmask() & m & !done);
-                                }
-                                None => done |= single(m),
-                            },
-                            _ => done |= single(m),
-                        }
-                        m &= !done;
-                    }
-                    if active & !done == 0 {
-                        None
-                    } else {
-                        Some(S::select(S::Mask::from_bitmask(done), gone, t_max))
-                    }
-                },
-            );
+            let mut v = Any {
+                geometry: self,
+                bvh,
+                su: &su,
+                active,
+                done,
+            };
+            if self.wide {
+                bvh.traverse4_packet(&su.ray, active, su.t_limit, switch, &mut v);
+            } else {
+                let active = S::Mask::from_bitmask(active);
+                bvh.traverse_packet(&su.ray, active, su.t_limit, &mut v);
+            }
+            done = v.done;
         }
         each_lane(done, |l| out[l] = true);
+    }
+}
+
+/// The closest-hit query's side of [`crate::bvh::Bvh::traverse4_packet`].
+struct Closest<'a, S: SimdF32> {
+    geometry: &'a Geometry<f32>,
+    bvh: &'a crate::bvh::Bvh,
+    su: &'a Setup<'a, S>,
+    best: &'a mut [Best<f32>; MAX_LANES],
+}
+
+impl<S: SimdF32> PacketVisitor<S> for Closest<'_, S> {
+    #[inline(always)]
+    fn leaf(&mut self, leaf: Leaf<'_>, lanes: u32, t_max: S) -> Option<S> {
+        Some(
+            self.geometry
+                .packet_leaf_closest(leaf, lanes, self.su, self.best, t_max),
+        )
+    }
+
+    #[inline(always)]
+    fn handover(&mut self, node: u32, lanes: u32, _t_max: S) -> Option<S> {
+        let g = self.geometry;
+        each_lane(lanes, |l| {
+            let (rd, b) = (self.su.lane(l), &mut self.best[l]);
+            self.bvh
+                .traverse4_from::<f32, false>(node, &rd.traversal, b.t, |f, _| {
+                    g.leaf_closest::<true, { kinds::ALL }>(f, rd, b)
+                        .then_some(b.t)
+                });
+        });
+        Some(best_t::<S>(self.best))
+    }
+}
+
+/// The any-hit query's side of [`crate::bvh::Bvh::traverse4_packet`].
+struct Any<'a, S: SimdF32> {
+    geometry: &'a Geometry<f32>,
+    bvh: &'a crate::bvh::Bvh,
+    su: &'a Setup<'a, S>,
+    /// The lanes traced.
+    active: u32,
+    /// The lanes blocked so far.
+    done: u32,
+}
+
+impl<S: SimdF32> Any<'_, S> {
+    /// Blocked lanes leave (their `t_max` becomes $-\infty$); `None` once every ray is
+    /// blocked.
+    #[inline(always)]
+    fn update(&self, t_max: S) -> Option<S> {
+        let gone = S::splat(f32::NEG_INFINITY);
+        (self.active & !self.done != 0)
+            .then(|| S::select(S::Mask::from_bitmask(self.done), gone, t_max))
+    }
+}
+
+impl<S: SimdF32> PacketVisitor<S> for Any<'_, S> {
+    #[inline(always)]
+    fn leaf(&mut self, leaf: Leaf<'_>, lanes: u32, t_max: S) -> Option<S> {
+        self.done |= self
+            .geometry
+            .packet_leaf_any(leaf, lanes & !self.done, self.su);
+        self.update(t_max)
+    }
+
+    #[inline(always)]
+    fn handover(&mut self, node: u32, lanes: u32, t_max: S) -> Option<S> {
+        let g = self.geometry;
+        let mut done = self.done;
+        each_lane(lanes & !done, |l| {
+            let rd = self.su.lane(l);
+            let limit = rd.t_limit;
+            let hit = self
+                .bvh
+                .traverse4_from::<f32, true>(node, &rd.traversal, limit, |f, _| {
+                    g.leaf_any::<true, { kinds::ALL }>(f, rd, limit)
+                        .map(|_| limit)
+                });
+            done |= u32::from(hit) << l;
+        });
+        self.done = done;
+        self.update(t_max)
+    }
+}
+
+/// Rays at or below which a packet hands its rays over to single-ray traversal
+/// ([`crate::bvh::Bvh::traverse4_packet`]). Two for four and eight lanes: the
+/// instruction count of eye packets (callgrind, `tracer/examples/packet_walk.rs`) was
+/// lowest there on the classic scenes, within 1-3 % of one and of three; four for
+/// sixteen lanes, by the same proportion (not measured: no AVX-512 on the machine of
+/// the measurement, see `tracer/RESULTS.md`).
+pub(crate) const fn switch(lanes: usize) -> u32 {
+    if lanes >= 16 {
+        4
+    } else {
+        2
+    }
+}
+
+#[cfg(all(test, target_arch = "x86_64"))]
+mod tests {
+    use super::*;
+    use crate::world::Scene;
+    use vecexpr::simd::{Isa, Kernel};
+    use vecexpr::Expr;
+
+    /// The packet queries of one packet with a given hand-over threshold.
+    struct Queries<'a> {
+        geometry: &'a Geometry<f32>,
+        rays: &'a [Option<Ray<f32>>; MAX_LANES],
+        switch: u32,
+    }
+
+    impl Kernel for Queries<'_> {
+        type Output = ([Option<Hit<f32>>; MAX_LANES], [bool; MAX_LANES]);
+        fn run<S: SimdF32>(self) -> Self::Output {
+            let mut hits = [None; MAX_LANES];
+            let mut blocked = [false; MAX_LANES];
+            self.geometry
+                .intersect_packet_switch::<S>(self.rays, &mut hits, self.switch);
+            self.geometry
+                .occluded_packet_switch::<S>(self.rays, &mut blocked, self.switch);
+            (hits, blocked)
+        }
+    }
+
+    /// With every hand-over threshold, from never (0) to at once (all lanes), each lane
+    /// of eye and shadow packets is the single ray's answer, bit for bit.
+    #[test]
+    fn every_hand_over_threshold_gives_the_single_ray_answers() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+        let mut blocked_rays = 0;
+        for name in [
+            "showcase.nff",
+            "balls-s1.nff",
+            "teapot-s1.nff",
+            "tree-s1.nff",
+        ] {
+            let desc = crate::scene::load(&dir.join(name)).unwrap();
+            let s: Scene<f32> = Scene::from_desc(&desc, &Default::default());
+            let g = &s.geometry;
+            let (w, h) = (23usize, 17usize);
+            let cam = s.camera_for(w as u32, h as u32);
+            let light = s.lights.first().map(|l| l.position);
+            for isa in Isa::available() {
+                let n = isa.lanes();
+                for switch in [0, 1, 2, 4, n as u32] {
+                    // Eye rays in runs of `n` pixels, row-major, so some packets span
+                    // two rows; then rays from their hits toward the first light.
+                    for first in (0..w * h).step_by(n) {
+                        let mut eye = [None; MAX_LANES];
+                        for (l, r) in eye.iter_mut().enumerate().take(n) {
+                            let k = first + l;
+                            if k < w * h {
+                                let (x, y) = ((k % w) as f32 + 0.5, (k / w) as f32 + 0.5);
+                                *r = Some(Ray::new(cam.position, cam.direction(x, y)));
+                            }
+                        }
+                        let (hits, _) = isa.dispatch(Queries {
+                            geometry: g,
+                            rays: &eye,
+                            switch,
+                        });
+                        let mut shadow = [None; MAX_LANES];
+                        for l in 0..n {
+                            let single = eye[l].as_ref().and_then(|r| g.intersect(r));
+                            assert_eq!(
+                                hits[l].map(|h| (h.t.to_bits(), h.prim_id)),
+                                single.map(|h| (h.t.to_bits(), h.prim_id)),
+                                "{name} {isa} switch {switch} ray {}",
+                                first + l
+                            );
+                            if let (Some(hit), Some(p)) = (single, light) {
+                                let o = (hit.point + hit.geometric_normal.scale(1e-3)).eval();
+                                let d = (p - o).eval();
+                                shadow[l] = Some(Ray {
+                                    t_max: 1.0,
+                                    ..Ray::new(o, d)
+                                });
+                            }
+                        }
+                        let (_, blocked) = isa.dispatch(Queries {
+                            geometry: g,
+                            rays: &shadow,
+                            switch,
+                        });
+                        for l in 0..n {
+                            let single = shadow[l].as_ref().is_some_and(|r| g.occluded(r));
+                            assert_eq!(blocked[l], single, "{name} {isa} switch {switch}");
+                            blocked_rays += usize::from(single);
+                        }
+                    }
+                }
+            }
+        }
+        assert!(
+            blocked_rays > 100,
+            "too few blocked shadow rays: {blocked_rays}"
+        );
     }
 }

@@ -1,0 +1,197 @@
+//! Eye rays three ways on the same scenes, interleaved run by run: single rays over the
+//! four-wide BVH, packets over the binary BVH and packets over the four-wide BVH (with
+//! hand-over to single rays where few rays of a packet are left).
+//!
+//! ```sh
+//! cargo run --release -p tracer --example packet_walk -- [--runs N] [--threads N] \
+//!     [--isa sse2|avx2|avx512] [--size WxH] SCENE...
+//! ```
+//!
+//! Prints one Markdown row per scene: median Mrays per second of each way over `--runs`
+//! rounds (the three alternate within a round), and the ratios. Every packet hit is
+//! checked against the single-ray hit of its pixel once, before timing. With
+//! `--only single|binary|wide` only that way is run, once per round and unchecked (for
+//! an instruction count under callgrind).
+
+use rayon::prelude::*;
+use std::process::ExitCode;
+use std::time::Instant;
+use tracer::geometry::AccelOptions;
+use tracer::packet::EyePackets;
+use tracer::{Ray, Scene};
+use vecexpr::simd::Isa;
+
+struct Options {
+    runs: usize,
+    threads: usize,
+    isa: Isa,
+    size: (u32, u32),
+    only: Option<usize>,
+    scenes: Vec<String>,
+}
+
+fn parse_args() -> Result<Options, String> {
+    let mut o = Options {
+        runs: 5,
+        threads: 1,
+        isa: Isa::detect().ok_or("no SIMD instruction set")?,
+        size: (512, 512),
+        only: None,
+        scenes: Vec::new(),
+    };
+    let mut args = std::env::args().skip(1);
+    while let Some(a) = args.next() {
+        let mut value = |name: &str| args.next().ok_or(format!("{name}: missing value"));
+        match a.as_str() {
+            "--runs" => {
+                o.runs = value("--runs")?
+                    .parse()
+                    .map_err(|e| format!("--runs: {e}"))?
+            }
+            "--threads" => {
+                o.threads = value("--threads")?
+                    .parse()
+                    .map_err(|e| format!("--threads: {e}"))?
+            }
+            "--isa" => {
+                let v = value("--isa")?;
+                o.isa = Isa::from_name(&v)
+                    .filter(|i| i.is_available())
+                    .ok_or(format!("--isa {v}: not available"))?;
+            }
+            "--size" => {
+                let v = value("--size")?;
+                let (w, h) = v
+                    .split_once('x')
+                    .ok_or(format!("--size {v}: expected WxH"))?;
+                o.size = (
+                    w.parse().map_err(|e| format!("--size: {e}"))?,
+                    h.parse().map_err(|e| format!("--size: {e}"))?,
+                );
+            }
+            "--only" => {
+                let v = value("--only")?;
+                let k = ["single", "binary", "wide"].iter().position(|w| *w == v);
+                o.only = Some(k.ok_or(format!("--only {v}: expected single, binary or wide"))?);
+            }
+            s if s.starts_with("--") => return Err(format!("unknown option {s}")),
+            s => o.scenes.push(s.to_string()),
+        }
+    }
+    if o.scenes.is_empty() {
+        return Err(
+            "usage: packet_walk [--runs N] [--threads N] [--isa ISA] [--size WxH] SCENE...".into(),
+        );
+    }
+    Ok(o)
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
+}
+
+fn main() -> ExitCode {
+    let o = match parse_args() {
+        Ok(o) => o,
+        Err(e) => {
+            eprintln!("{e}");
+            return ExitCode::from(2);
+        }
+    };
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(o.threads)
+        .build()
+        .expect("thread pool");
+    println!(
+        "{} thread(s), {}x{}, {} packets, {} rounds; median Mrays/s",
+        o.threads, o.size.0, o.size.1, o.isa, o.runs
+    );
+    println!();
+    println!("| scene | single, wide | packets, binary | packets, wide | wide / binary packets | wide packets / single |");
+    println!("|---|---:|---:|---:|---:|---:|");
+    for path in &o.scenes {
+        let desc = match tracer::scene::load(std::path::Path::new(path)) {
+            Ok(d) => d,
+            Err(e) => {
+                eprintln!("{e}");
+                return ExitCode::from(2);
+            }
+        };
+        let wide: Scene<f32> = Scene::from_desc(&desc, &AccelOptions::default());
+        let binary: Scene<f32> = Scene::from_desc(
+            &desc,
+            &AccelOptions {
+                wide: false,
+                ..AccelOptions::default()
+            },
+        );
+        let cam = wide.camera_for(o.size.0, o.size.1);
+        let (w, h) = (o.size.0 as usize, o.size.1 as usize);
+        let rays: Vec<Ray<f32>> = (0..w * h)
+            .map(|k| {
+                let (x, y) = ((k % w) as f32 + 0.5, (k / w) as f32 + 0.5);
+                Ray::new(cam.position, cam.direction(x, y))
+            })
+            .collect();
+        let mut pw = EyePackets::new(&cam, o.isa);
+        let mut pb = EyePackets::new(&cam, o.isa);
+        if o.only.is_none() {
+            pool.install(|| {
+                pw.cast(&wide);
+                pb.cast(&binary);
+            });
+            for (k, r) in rays.iter().enumerate() {
+                let single = wide.intersect(r).map(|h| h.t.to_bits());
+                let (x, y) = (k % w, k / w);
+                assert_eq!(
+                    pw.get(x, y).map(|h| h.t.to_bits()),
+                    single,
+                    "{path} ({x}, {y})"
+                );
+                assert_eq!(
+                    pb.get(x, y).map(|h| h.t.to_bits()),
+                    single,
+                    "{path} ({x}, {y})"
+                );
+            }
+        }
+        let mut times = [Vec::new(), Vec::new(), Vec::new()];
+        let n = rays.len() as f64;
+        for _ in 0..o.runs {
+            pool.install(|| {
+                let run = |k: usize| o.only.is_none_or(|only| only == k);
+                if run(0) {
+                    let s = Instant::now();
+                    let hits = rays
+                        .par_iter()
+                        .with_min_len(256)
+                        .filter(|r| wide.intersect(r).is_some())
+                        .count();
+                    times[0].push(n / s.elapsed().as_secs_f64() * 1e-6);
+                    std::hint::black_box(hits);
+                }
+                if run(1) {
+                    let s = Instant::now();
+                    pb.cast(&binary);
+                    times[1].push(n / s.elapsed().as_secs_f64() * 1e-6);
+                }
+                if run(2) {
+                    let s = Instant::now();
+                    pw.cast(&wide);
+                    times[2].push(n / s.elapsed().as_secs_f64() * 1e-6);
+                }
+            });
+        }
+        let [single, bin, wid] = times.map(median);
+        let name = std::path::Path::new(path)
+            .file_name()
+            .map_or(path.clone(), |f| f.to_string_lossy().into_owned());
+        println!(
+            "| {name} | {single:.2} | {bin:.2} | {wid:.2} | {:.2} | {:.2} |",
+            wid / bin,
+            wid / single
+        );
+    }
+    ExitCode::SUCCESS
+}
