@@ -23,8 +23,9 @@
 //! (the one a random ray most likely enters) into its two children, until four slots
 //! are filled or only leaves remain. Nodes are thus full wherever the subtree allows
 //! (the collapse of every second level left a slot empty wherever a child was a leaf):
-//! 0 to 15 % fewer wide nodes on the classic scenes and up to 3 % fewer instructions
-//! per eye ray (`tracer/RESULTS.md`, "Packets over the four-wide tree"). Each wide level spans at least one binary level, so a
+//! 0 to 15 % fewer wide nodes on the classic scenes, and 2 to 5 % fewer instructions per
+//! single eye ray on five of the seven (`tracer/RESULTS.md`, "Packets over the four-wide
+//! tree"). Each wide level spans at least one binary level, so a
 //! tree of binary depth [`super::build::MAX_DEPTH`] has at most as many wide levels,
 //! which bounds the traversal stack ([`STACK_SIZE`]).
 //!
