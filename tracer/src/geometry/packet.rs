@@ -2,8 +2,8 @@
 //! [`Geometry::intersect`] ray by ray.
 //!
 //! The packet walks the BVH together ([`crate::bvh::packet`]: the four-wide tree, handing
-//! its rays over to their single-ray traversal of a subtree where at most [`switch`] of
-//! them reach it, or the binary tree with `--binary-bvh`); in a leaf, spheres
+//! its rays over to their single-ray traversal of a subtree where at most two of them
+//! (four of sixteen) reach it, or the binary tree with `--binary-bvh`); in a leaf, spheres
 //! and triangles are tested against every ray of the packet at once with the formulas
 //! of the single-ray kernels ([`super::sphere`], [`super::triangle`]) written over the
 //! lane type, operation for operation and in the same order (no fused multiply-add
