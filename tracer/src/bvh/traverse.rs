@@ -33,6 +33,13 @@ pub fn gamma<T: Real>(n: u32) -> T {
     nu / (T::ONE - nu)
 }
 
+/// The factor $1 + 2\gamma_3$ on exit distances of [`TraversalRay`] (see the module
+/// docs).
+#[inline(always)]
+pub fn slack<T: Real>() -> T {
+    T::ONE + <T as Real>::from_f64(2.0) * gamma::<T>(3)
+}
+
 /// A ray prepared for box tests: origin, inverse direction and its signs.
 #[derive(Clone, Copy, Debug)]
 pub struct TraversalRay<T: Real> {
@@ -59,7 +66,7 @@ impl<T: Real> TraversalRay<T> {
             // 1/-0 = -inf, so a negative zero also picks `hi` as its near plane.
             neg: inv_dir.map(|x| x < T::ZERO),
             t_min,
-            slack: T::ONE + <T as Real>::from_f64(2.0) * gamma::<T>(3),
+            slack: slack::<T>(),
         }
     }
 

@@ -21,6 +21,7 @@
 //! and then the three terms of the discriminant cancel even with the identity above.
 
 use super::ray_data::RayData;
+use crate::ray::Ray;
 use vecexpr::{Expr, Real, Vec3};
 
 /// A cone or cylinder as the traversal sees it (36 bytes in `f32`).
@@ -121,7 +122,7 @@ impl<T: Real> Cone<T> {
     /// The unit outward normal at the hit `origin + t dir`: the gradient
     /// $q - r(s)\,k\,\hat a$ with $q$ the radial offset, taken as $\hat q - k \hat a$.
     #[inline]
-    pub(crate) fn normal(&self, r: &RayData<T>, t: T) -> Vec3<T> {
+    pub(crate) fn normal(&self, r: &Ray<T>, t: T) -> Vec3<T> {
         let rel = (r.origin - self.base + (&r.dir).scale(t)).eval();
         let s = rel.dot(&self.axis);
         let q = (rel - (&self.axis).scale(s)).normalize();
@@ -144,7 +145,7 @@ impl<T: Real> Cone<T> {
     /// refines its cylinder hits). This is what lets [`super::offset_ray`] use an offset
     /// relative to the point's own coordinates.
     #[inline]
-    pub(crate) fn point(&self, r: &RayData<T>, t: T) -> Vec3<T> {
+    pub(crate) fn point(&self, r: &Ray<T>, t: T) -> Vec3<T> {
         let rel = (r.origin - self.base + (&r.dir).scale(t)).eval();
         let s = rel.dot(&self.axis);
         let q = (rel - (&self.axis).scale(s)).eval();
@@ -192,7 +193,10 @@ mod tests {
         let c = Cone::new(vec3(0.0f64, 0.0, 0.0), 1.0, vec3(0.0, 0.0, 2.0), 1.0).unwrap();
         let r = data(vec3(5.0, 0.0, 1.0), vec3(-1.0, 0.0, 0.0));
         assert_eq!(c.intersect(&r, f64::MAX), Some(4.0));
-        assert_eq!(c.normal(&r, 4.0), vec3(1.0, 0.0, 0.0));
+        assert_eq!(
+            c.normal(&Ray::new(r.origin, r.dir), 4.0),
+            vec3(1.0, 0.0, 0.0)
+        );
         // Above the top: miss; through the open end from inside: the far wall.
         let above = data(vec3(5.0, 0.0, 2.5), vec3(-1.0, 0.0, 0.0));
         assert_eq!(c.intersect(&above, f64::MAX), None);
@@ -210,7 +214,7 @@ mod tests {
         let r = data(vec3(5.0, 0.0, 0.5), vec3(-1.0, 0.0, 0.0));
         let t = c.intersect(&r, f64::MAX).unwrap();
         assert!((t - 4.5).abs() < 1e-12);
-        let n = c.normal(&r, t);
+        let n = c.normal(&Ray::new(r.origin, r.dir), t);
         let s = 0.5f64.sqrt();
         assert!(n.approx_eq(vec3(s, 0.0, s), 1e-12), "{n:?}");
     }

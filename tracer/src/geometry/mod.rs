@@ -691,7 +691,7 @@ impl<T: Real> Geometry<T> {
                 }
             }
         }
-        (best.r != NO_HIT).then(|| self.make_hit::<KINDS>(&best, &rd))
+        (best.r != NO_HIT).then(|| self.make_hit::<KINDS>(&best, ray))
     }
 
     #[inline(always)]
@@ -727,8 +727,9 @@ impl<T: Real> Geometry<T> {
         }
     }
 
-    /// Fills in the hit record for the winning candidate.
-    fn make_hit<const KINDS: u32>(&self, b: &Best<T>, rd: &RayData<T>) -> Hit<T> {
+    /// Fills in the hit record for the winning candidate of `ray` (only its origin and
+    /// direction are read).
+    fn make_hit<const KINDS: u32>(&self, b: &Best<T>, rd: &Ray<T>) -> Hit<T> {
         let i = (b.r & INDEX_MASK) as usize;
         let p = &self.prims;
         let flip = |n: Vec3<T>, inside: bool| if inside { (-&n).eval() } else { n };

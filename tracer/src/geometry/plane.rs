@@ -2,6 +2,7 @@
 //! tested before it on every ray (a ground plane then also tightens `t_max` early).
 
 use super::ray_data::RayData;
+use crate::ray::Ray;
 use vecexpr::{Expr, Real, Vec3};
 
 /// The plane through `point` with unit `normal`.
@@ -35,7 +36,7 @@ impl<T: Real> Plane<T> {
     /// The hit point `origin + t dir` projected onto the plane, so that its error is
     /// relative to the point's own coordinates, not to a distant ray origin.
     #[inline]
-    pub(crate) fn point(&self, r: &RayData<T>, t: T) -> Vec3<T> {
+    pub(crate) fn point(&self, r: &Ray<T>, t: T) -> Vec3<T> {
         let x = (r.origin + (&r.dir).scale(t)).eval();
         let h = (x - self.point).dot(&self.normal);
         (x - (&self.normal).scale(h)).eval()

@@ -21,6 +21,21 @@ pub(crate) struct Shear<T: Real> {
 impl<T: Real> Shear<T> {
     #[inline(always)]
     fn new(d: &Vec3<T>) -> Self {
+        let (kx, ky, kz) = Self::axes(d);
+        let sz = d[kz].recip();
+        Self {
+            kx,
+            ky,
+            kz,
+            sx: d[kx] * sz,
+            sy: d[ky] * sz,
+            sz,
+        }
+    }
+
+    /// The axes `(kx, ky, kz)` of the shear of direction `d`.
+    #[inline(always)]
+    pub(crate) fn axes(d: &Vec3<T>) -> (usize, usize, usize) {
         let a = [d[0].abs(), d[1].abs(), d[2].abs()];
         let kz = if a[0] > a[1] {
             if a[0] > a[2] {
@@ -38,15 +53,7 @@ impl<T: Real> Shear<T> {
         if d[kz] < T::ZERO {
             core::mem::swap(&mut kx, &mut ky);
         }
-        let sz = d[kz].recip();
-        Self {
-            kx,
-            ky,
-            kz,
-            sx: d[kx] * sz,
-            sy: d[ky] * sz,
-            sz,
-        }
+        (kx, ky, kz)
     }
 }
 

@@ -10,6 +10,7 @@
 //!   avoiding the subtraction of nearly equal numbers (their eq. 7.6, after Press et al.).
 
 use super::ray_data::RayData;
+use crate::ray::Ray;
 use vecexpr::{Expr, Real, Vec3};
 
 /// A sphere as the traversal sees it (16 bytes in `f32`).
@@ -51,7 +52,7 @@ impl<T: Real> Sphere<T> {
     /// The unit outward normal at the hit `origin + t dir`, and the hit point projected
     /// back onto the surface (which removes most of the error of $o + t d$).
     #[inline]
-    pub(crate) fn normal_and_point(&self, r: &RayData<T>, t: T) -> (Vec3<T>, Vec3<T>) {
+    pub(crate) fn normal_and_point(&self, r: &Ray<T>, t: T) -> (Vec3<T>, Vec3<T>) {
         // Relative to the centre, so the result does not lose digits to a large |c|.
         let rel = (r.origin - self.center + (&r.dir).scale(t)).eval();
         let n = rel.normalize();
@@ -98,7 +99,7 @@ mod tests {
         let r = data(vec3(1.0, 2.0, -7.0), vec3(0.0, 0.0, 4.0));
         let t = s.intersect(&r, f32::MAX).unwrap();
         assert!((t - 2.0).abs() < 1e-6);
-        let (n, p) = s.normal_and_point(&r, t);
+        let (n, p) = s.normal_and_point(&Ray::new(r.origin, r.dir), t);
         assert_eq!(n, vec3(0.0, 0.0, -1.0));
         assert_eq!(p, vec3(1.0, 2.0, 1.0));
     }
