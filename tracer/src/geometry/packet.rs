@@ -16,9 +16,9 @@
 //!   the single-ray test recomputes in `f64`;
 //! - the Möller–Trumbore test and the brute-force mode, which trace each ray alone.
 //!
-//! The rays are set up over the lanes ([`RayData::new`]'s values computed with the same
-//! operations in SIMD registers); a ray's own [`RayData`] is made only when one of its
-//! single-ray kernels needs it. That, against making every ray's record and moving it
+//! The rays are set up over the lanes (the values the single-ray kernels precompute per
+//! ray, computed with the same operations in SIMD registers); a ray's own scalar record
+//! is made only when one of its single-ray kernels needs it. That, against making every ray's record and moving it
 //! into lanes, cut the instructions of eye packets by 9 to 22 % on five classic scenes
 //! (1.8 and 4.4 % more on rings-s7 and tree-s11, whose cylinders need every ray's
 //! record; `tracer/RESULTS.md`).
