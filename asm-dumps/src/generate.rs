@@ -116,11 +116,33 @@ pub fn toolchain() -> Result<String, String> {
     ))
 }
 
+/// The host's target triple (`rustc -vV`'s `host` line).
+///
+/// The build passes it as `--target`, so that `RUSTFLAGS` reach the crates compiled for
+/// the target only and not the build scripts and proc macros, which run on this machine:
+/// built for `x86-64-v4` they would stop with an illegal instruction on a CPU without
+/// AVX-512.
+///
+/// # Errors
+/// If rustc cannot be run or prints no host.
+pub fn host() -> Result<String, String> {
+    let rustc = std::env::var("RUSTC").unwrap_or_else(|_| "rustc".to_string());
+    let out = Command::new(&rustc)
+        .arg("-vV")
+        .output()
+        .map_err(|e| format!("cannot run {rustc}: {e}"))?;
+    String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .find_map(|l| l.strip_prefix("host:"))
+        .map(|h| h.trim().to_string())
+        .ok_or_else(|| format!("{rustc} -vV printed no host"))
+}
+
 /// The command line that [`emit`] runs, as it appears in the dump headers.
 pub fn command_line(target: &Target) -> String {
     let config: String = PROFILE.iter().map(|c| format!(" --config {c}")).collect();
     format!(
-        "RUSTFLAGS=\"{}\" cargo rustc --release -p asm-dumps --lib{config} -- --emit asm {}",
+        "RUSTFLAGS=\"{}\" cargo rustc --release --target HOST -p asm-dumps --lib{config} -- --emit asm {}",
         target.rustflags,
         RUSTC_ARGS.join(" ")
     )
@@ -143,6 +165,8 @@ pub fn emit(manifest: &Path, target_dir: &Path, target: &Target) -> Result<Strin
         .arg("--release")
         .arg("--lib")
         .arg("--quiet")
+        .arg("--target")
+        .arg(host()?)
         .arg("--manifest-path")
         .arg(manifest);
     for c in PROFILE {
