@@ -5,14 +5,15 @@
 //! ```sh
 //! cargo run --release -p tracer --example packet_walk -- [--runs N] [--threads N] \
 //!     [--isa sse2|avx2|avx512] [--size WxH] [--only single|binary|wide] \
-//!     [--traversal-cost C] [--max-leaf N] SCENE...
+//!     [--traversal-cost C] [--max-leaf N] [--tile N] SCENE...
 //! ```
 //!
 //! Prints one Markdown row per scene: median Mrays per second of each way over `--runs`
 //! rounds (the three alternate within a round), and the ratios. Every packet hit is
 //! checked against the single-ray hit of its pixel once, before timing. With
 //! `--only single|binary|wide` only that way is run, once per round and unchecked (for
-//! an instruction count under callgrind).
+//! an instruction count under callgrind). Single rays are cast in row order, or with
+//! `--tile N` tile by tile (N x N pixels, tiles in row order).
 
 use rayon::prelude::*;
 use std::process::ExitCode;
@@ -28,6 +29,7 @@ struct Options {
     isa: Isa,
     size: (u32, u32),
     only: Option<usize>,
+    tile: usize,
     accel: AccelOptions,
     scenes: Vec<String>,
 }
@@ -39,6 +41,7 @@ fn parse_args() -> Result<Options, String> {
         isa: Isa::detect().ok_or("no SIMD instruction set")?,
         size: (512, 512),
         only: None,
+        tile: 0,
         accel: AccelOptions::default(),
         scenes: Vec::new(),
     };
@@ -50,6 +53,11 @@ fn parse_args() -> Result<Options, String> {
                 o.runs = value("--runs")?
                     .parse()
                     .map_err(|e| format!("--runs: {e}"))?
+            }
+            "--tile" => {
+                o.tile = value("--tile")?
+                    .parse()
+                    .map_err(|e| format!("--tile: {e}"))?
             }
             "--threads" => {
                 o.threads = value("--threads")?
@@ -149,11 +157,25 @@ fn main() -> ExitCode {
         );
         let cam = wide.camera_for(o.size.0, o.size.1);
         let (w, h) = (o.size.0 as usize, o.size.1 as usize);
-        let rays: Vec<Ray<f32>> = (0..w * h)
-            .map(|k| {
-                let (x, y) = ((k % w) as f32 + 0.5, (k / w) as f32 + 0.5);
-                Ray::new(cam.position, cam.direction(x, y))
-            })
+        let pixels: Vec<(usize, usize)> = if o.tile == 0 {
+            (0..w * h).map(|k| (k % w, k / w)).collect()
+        } else {
+            let t = o.tile;
+            let mut v = Vec::with_capacity(w * h);
+            for ty in (0..h).step_by(t) {
+                for tx in (0..w).step_by(t) {
+                    for y in ty..(ty + t).min(h) {
+                        for x in tx..(tx + t).min(w) {
+                            v.push((x, y));
+                        }
+                    }
+                }
+            }
+            v
+        };
+        let rays: Vec<Ray<f32>> = pixels
+            .iter()
+            .map(|&(x, y)| Ray::new(cam.position, cam.direction(x as f32 + 0.5, y as f32 + 0.5)))
             .collect();
         let mut pw = EyePackets::new(&cam, o.isa);
         let mut pb = EyePackets::new(&cam, o.isa);
@@ -162,9 +184,8 @@ fn main() -> ExitCode {
                 pw.cast(&wide);
                 pb.cast(&binary);
             });
-            for (k, r) in rays.iter().enumerate() {
+            for (r, &(x, y)) in rays.iter().zip(&pixels) {
                 let single = wide.intersect(r).map(|h| h.t.to_bits());
-                let (x, y) = (k % w, k / w);
                 assert_eq!(
                     pw.get(x, y).map(|h| h.t.to_bits()),
                     single,
