@@ -474,3 +474,56 @@ other:
         );
     }
 }
+
+/// A call (or tail jump) to a `core::arch` intrinsic found in emitted assembly.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct IntrinsicCall {
+    /// The function containing the call (mangled symbol).
+    pub caller: String,
+    /// The intrinsic called (mangled symbol).
+    pub callee: String,
+}
+
+/// Every `call` or `jmp` to a function of `core::arch` (`core_arch` in the mangled
+/// name) in an `--emit asm` file, with the function it sits in.
+///
+/// An intrinsic is a function with `#[target_feature]`: inlined into code built with
+/// that feature it is one instruction, but code built without it (a closure or helper
+/// the compiler left out of line from a `#[target_feature]` entry point) can only call
+/// it, so every vector operation becomes a function call.
+///
+/// # Examples
+/// ```
+/// let s = "f:\n\tcall\t_ZN4core9core_arch3x863avx13_mm256_mul_ps17h0123456789abcdefE\n\
+///          \tret\n.Lfunc_end0:\ng:\n\tcall\tmemcpy@PLT\n\tret\n";
+/// let calls = asm_dumps::asm::intrinsic_calls(s);
+/// assert_eq!(calls.len(), 1);
+/// assert_eq!(calls[0].caller, "f");
+/// assert!(calls[0].callee.contains("_mm256_mul_ps"));
+/// ```
+pub fn intrinsic_calls(asm: &str) -> Vec<IntrinsicCall> {
+    let mut out = Vec::new();
+    let mut caller = "";
+    for line in asm.lines() {
+        let t = line.trim();
+        if is_label(t) && !t.starts_with(".L") {
+            caller = t.trim_end_matches(':');
+            continue;
+        }
+        let Some(ins) = instruction(line) else {
+            continue;
+        };
+        if !matches!(mnemonic(ins), "call" | "jmp") {
+            continue;
+        }
+        if let Some(callee) = ins.split_whitespace().last() {
+            if callee.contains("core_arch") {
+                out.push(IntrinsicCall {
+                    caller: caller.to_string(),
+                    callee: callee.to_string(),
+                });
+            }
+        }
+    }
+    out
+}

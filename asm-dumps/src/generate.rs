@@ -157,9 +157,24 @@ pub fn command_line(target: &Target) -> String {
 /// # Errors
 /// If cargo cannot be started or the build fails (its stderr is returned).
 pub fn emit(manifest: &Path, target_dir: &Path, target: &Target) -> Result<String, String> {
+    emit_package(manifest, "asm-dumps", target_dir, target)
+}
+
+/// As [`emit`], for the library of any package of the workspace that `manifest`
+/// belongs to (for example `tracer`, whose whole code is checked for out-of-line
+/// intrinsics); the same build directory per target serves every package.
+///
+/// # Errors
+/// If cargo cannot be started or the build fails (its stderr is returned).
+pub fn emit_package(
+    manifest: &Path,
+    package: &str,
+    target_dir: &Path,
+    target: &Target,
+) -> Result<String, String> {
     let dir = target_dir.join(target.name);
     std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-    let asm_path: PathBuf = dir.join("asm_dumps.s");
+    let asm_path: PathBuf = dir.join(format!("{}.s", package.replace('-', "_")));
     let mut cmd = Command::new(cargo());
     cmd.arg("rustc")
         .arg("--release")
@@ -168,7 +183,9 @@ pub fn emit(manifest: &Path, target_dir: &Path, target: &Target) -> Result<Strin
         .arg("--target")
         .arg(host()?)
         .arg("--manifest-path")
-        .arg(manifest);
+        .arg(manifest)
+        .arg("-p")
+        .arg(package);
     for c in PROFILE {
         cmd.arg("--config").arg(c);
     }
@@ -185,7 +202,7 @@ pub fn emit(manifest: &Path, target_dir: &Path, target: &Target) -> Result<Strin
         .map_err(|e| format!("cannot run {}: {e}", cargo()))?;
     if !out.status.success() {
         return Err(format!(
-            "assembly generation for {} failed ({}):\n{}",
+            "assembly generation of {package} for {} failed ({}):\n{}",
             target.name,
             out.status,
             String::from_utf8_lossy(&out.stderr)

@@ -11,7 +11,9 @@
 //! promise (instruction count, no call, no branch, no stack access, SIMD used);
 //! [`bounds`] reads the checked-in per-kernel limits; [`generate`] runs the compiler;
 //! [`dump`] writes and reads the checked-in dump files.
-//! The integration test `tests/asm_check.rs` ties them together.
+//! The integration test `tests/asm_check.rs` ties them together;
+//! `tests/intrinsic_calls.rs` checks the whole `vecexpr` and `tracer` libraries for
+//! intrinsics called out of line ([`asm::intrinsic_calls`]).
 
 pub mod asm;
 pub mod bounds;

@@ -45,6 +45,8 @@ pub struct PacketRay<S: SimdF32> {
     pub t_min: S,
     /// $1 + 2\gamma_3$ (the same in every lane).
     pub slack: S,
+    /// `inv_dir` times `slack`, for the far planes (as [`TraversalRay::inv_far`]).
+    pub inv_far: [S; 3],
 }
 
 impl<S: SimdF32> PacketRay<S> {
@@ -79,7 +81,10 @@ impl<S: SimdF32> PacketRay<S> {
     #[inline(always)]
     pub fn from_lanes(origin: [S; 3], inv_dir: [S; 3], t_min: S, slack: f32) -> Self {
         let zero = S::zero();
+        let s = S::splat(slack);
         Self {
+            // Lane by lane the product `TraversalRay::new` computes.
+            inv_far: [inv_dir[0] * s, inv_dir[1] * s, inv_dir[2] * s],
             origin,
             inv_dir,
             // As `TraversalRay::new`: 1/-0 = -inf picks `hi` as the near plane too.
@@ -89,7 +94,7 @@ impl<S: SimdF32> PacketRay<S> {
                 inv_dir[2].lt(zero),
             ],
             t_min,
-            slack: S::splat(slack),
+            slack: s,
         }
     }
 
@@ -99,18 +104,18 @@ impl<S: SimdF32> PacketRay<S> {
     #[allow(clippy::needless_range_loop)] // the axis indexes four arrays, as in `hit_box`
     pub fn hit_box(&self, b: &[[f32; 3]; 2], t_max: S) -> (S::Mask, S) {
         let mut t_near = self.t_min;
-        let mut t_far = t_max;
+        let mut t_far = t_max * self.slack;
         for a in 0..3 {
             let (lo, hi) = (S::splat(b[0][a]), S::splat(b[1][a]));
             let near = S::select(self.neg[a], hi, lo);
             let far = S::select(self.neg[a], lo, hi);
             let tn = (near - self.origin[a]) * self.inv_dir[a];
-            let tf = (far - self.origin[a]) * self.inv_dir[a];
+            let tf = (far - self.origin[a]) * self.inv_far[a];
             // minps/maxps rule: a NaN `tn`/`tf` leaves the running value unchanged.
             t_near = Scalar::max(tn, t_near);
             t_far = Scalar::min(tf, t_far);
         }
-        (t_near.le(t_far * self.slack), t_near)
+        (t_near.le(t_far), t_near)
     }
 }
 
@@ -239,17 +244,17 @@ impl<S: SimdF32> PacketRay<S> {
     #[inline(always)]
     fn hit_slot(&self, neg: [usize; 3], node: &Node4, i: usize, t_max: S) -> (S::Mask, S) {
         let mut t_near = self.t_min;
-        let mut t_far = t_max;
+        let mut t_far = t_max * self.slack;
         for (a, &n) in neg.iter().enumerate() {
             let near = S::splat(node.bounds[n][a][i]);
             let far = S::splat(node.bounds[1 - n][a][i]);
             let tn = (near - self.origin[a]) * self.inv_dir[a];
-            let tf = (far - self.origin[a]) * self.inv_dir[a];
+            let tf = (far - self.origin[a]) * self.inv_far[a];
             // minps/maxps rule: a NaN `tn`/`tf` leaves the running value unchanged.
             t_near = Scalar::max(tn, t_near);
             t_far = Scalar::min(tf, t_far);
         }
-        (t_near.le(t_far * self.slack), t_near)
+        (t_near.le(t_far), t_near)
     }
 }
 

@@ -7,11 +7,19 @@
 //!
 //! # Robustness
 //! The slab test follows T. Ize, "Robust BVH Ray Traversal", JCGT 2(2), 2013: with the
-//! inverse direction precomputed, the exit distance is multiplied by
-//! $1 + 2\gamma_3$, $\gamma_n = n u / (1 - n u)$ with $u$ the unit roundoff of `T`, which
-//! bounds the rounding error of $(b - o) / d$ so a box the ray truly touches is never
-//! rejected. The same factor is applied when a pushed node's entry distance is compared
-//! with the closest hit. The near and far plane of each axis are chosen by the sign of
+//! inverse direction precomputed, the exit distance is enlarged by the factor
+//! $s = 1 + 2\gamma_3$, $\gamma_n = n u / (1 - n u)$ with $u$ the unit roundoff of `T`,
+//! which bounds the rounding error of $(b - o) / d$ so a box the ray truly touches is
+//! never rejected. The factor is folded into the inverse direction of the far planes
+//! (`inv_far` $= \mathrm{fl}(\mathrm{fl}(1/d)\, s)$) and into `t_max`, instead of
+//! multiplying the smallest exit distance afterwards, which took a multiplication off the
+//! chain of dependent operations from one node to the next. The error budget is the
+//! same: the computed exit distance $\mathrm{fl}(\mathrm{fl}(b - o)\,\mathrm{inv\_far})$
+//! carries five roundings of at most $u$ each (subtraction, reciprocal, $s$ itself, its
+//! product with the reciprocal, the last product), as the exit distance multiplied
+//! afterwards did (subtraction, reciprocal, product, $s$, product with $s$), and
+//! $(1 + 2\gamma_3)(1 - u)^5 > 1$. The same factor is applied when a pushed node's
+//! entry distance is compared with the closest hit. The near and far plane of each axis are chosen by the sign of
 //! the direction, and the running `max`/`min` are written so that a NaN slab distance
 //! (a zero direction component with the origin on the plane, $0 \cdot \infty$) is
 //! ignored instead of rejecting the box.
@@ -53,6 +61,9 @@ pub struct TraversalRay<T: Real> {
     pub t_min: T,
     /// $1 + 2\gamma_3$.
     pub slack: T,
+    /// `inv_dir` times `slack`: the far planes' distances are computed with it (see
+    /// the module docs).
+    pub inv_far: [T; 3],
 }
 
 impl<T: Real> TraversalRay<T> {
@@ -67,6 +78,7 @@ impl<T: Real> TraversalRay<T> {
             neg: inv_dir.map(|x| x < T::ZERO),
             t_min,
             slack: slack::<T>(),
+            inv_far: inv_dir.map(|x| x * slack::<T>()),
         }
     }
 
@@ -75,17 +87,17 @@ impl<T: Real> TraversalRay<T> {
     #[inline(always)]
     pub fn hit_box(&self, b: &[[f32; 3]; 2], t_max: T) -> Option<T> {
         let mut t_near = self.t_min;
-        let mut t_far = t_max;
+        let mut t_far = t_max * self.slack;
         for a in 0..3 {
             let near = <T as Real>::from_f64(f64::from(b[self.neg[a] as usize][a]));
             let far = <T as Real>::from_f64(f64::from(b[!self.neg[a] as usize][a]));
             let tn = (near - self.origin[a]) * self.inv_dir[a];
-            let tf = (far - self.origin[a]) * self.inv_dir[a];
+            let tf = (far - self.origin[a]) * self.inv_far[a];
             // minps/maxps rule: a NaN `tn`/`tf` leaves the running value unchanged.
             t_near = Scalar::max(tn, t_near);
             t_far = Scalar::min(tf, t_far);
         }
-        if t_near <= t_far * self.slack {
+        if t_near <= t_far {
             Some(t_near)
         } else {
             None

@@ -169,7 +169,7 @@ impl<T: Real> TraversalRay<T> {
     pub fn hit_box4_bits(&self, node: &Node4, t_max: T) -> (u32, [T; WIDTH]) {
         let lanes = |v: &[f32; WIDTH]| P4::<T>::from_fn(|i| T::from_f64(f64::from(v[i])));
         let mut t_near = P4::<T>::splat(self.t_min);
-        let mut t_far = P4::<T>::splat(t_max);
+        let mut t_far = P4::<T>::splat(t_max * self.slack);
         for a in 0..3 {
             let n = self.neg[a] as usize;
             let near = lanes(&node.bounds[n][a]);
@@ -177,12 +177,12 @@ impl<T: Real> TraversalRay<T> {
             let o = P4::<T>::splat(self.origin[a]);
             let inv = P4::<T>::splat(self.inv_dir[a]);
             let tn = (near - o) * inv;
-            let tf = (far - o) * inv;
+            let tf = (far - o) * P4::<T>::splat(self.inv_far[a]);
             // minps/maxps rule per lane: a NaN `tn`/`tf` leaves the running value.
             t_near = Scalar::max(tn, t_near);
             t_far = Scalar::min(tf, t_far);
         }
-        let hit = t_near.le(t_far * P4::<T>::splat(self.slack));
+        let hit = t_near.le(t_far);
         let mut bits = 0;
         for i in 0..WIDTH {
             bits |= (hit.test(i) as u32) << i;

@@ -308,10 +308,13 @@ impl<'a, S: SimdF32> Setup<'a, S> {
         let k = axes(fl);
         let mut same_axes = true;
         each_lane(valid & !(1 << fl), |l| same_axes &= axes(l) == k);
-        let shear = same_axes.then(|| {
+        // Not `same_axes.then(|| ..)`: a closure left out of line is compiled without
+        // the caller's instruction set, and its vector divisions and products became
+        // calls (`_mm256_div_ps`, `_mm256_mul_ps`).
+        let shear = if same_axes {
             let (kx, ky, kz) = k;
             let sz = one / dir[kz];
-            PacketShear {
+            Some(PacketShear {
                 kx,
                 ky,
                 kz,
@@ -319,8 +322,10 @@ impl<'a, S: SimdF32> Setup<'a, S> {
                 sy: dir[ky] * sz,
                 sz,
                 o: [origin[kx], origin[ky], origin[kz]],
-            }
-        });
+            })
+        } else {
+            None
+        };
         let ray = PacketRay::from_lanes(
             [origin[0], origin[1], origin[2]],
             inv_dir,
@@ -756,8 +761,13 @@ impl<S: SimdF32> Any<'_, S> {
     #[inline(always)]
     fn update(&self, t_max: S) -> Option<S> {
         let gone = S::splat(f32::NEG_INFINITY);
-        (self.active & !self.done != 0)
-            .then(|| S::select(S::Mask::from_bitmask(self.done), gone, t_max))
+        // Not `bool::then` with a closure, which could be left out of line without
+        // the caller's instruction set (see `Setup::new`).
+        if self.active & !self.done != 0 {
+            Some(S::select(S::Mask::from_bitmask(self.done), gone, t_max))
+        } else {
+            None
+        }
     }
 }
 

@@ -116,6 +116,13 @@ impl Mask for M32x16 {
     }
 }
 
+impl M32x16 {
+    /// The lanes' bits (`1 << lane`), as [`SimdMask::bitmask`] gives them.
+    fn plain_bits(&self) -> u32 {
+        u32::from(self.0)
+    }
+}
+
 impl SimdMask for M32x16 {
     #[inline(always)]
     fn bitmask(self) -> u32 {

@@ -107,25 +107,36 @@ macro_rules! lane_boilerplate {
                 <Self as crate::Scalar>::splat(0.0)
             }
         }
+        impl $t {
+            /// The lanes, read from memory without an intrinsic: `PartialEq` and `Debug`
+            /// are compiled for the baseline, where an intrinsic of a wider instruction
+            /// set would be a function call (`asm-dumps/tests/intrinsic_calls.rs`).
+            fn plain_lanes(&self) -> [f32; $n] {
+                // SAFETY: the type is a `repr(transparent)` wrapper of a vector of `$n`
+                // `f32` lanes in memory order, as large as `[f32; $n]`; every bit pattern
+                // is a valid `f32`, and the read is unaligned.
+                unsafe { core::ptr::read_unaligned((self as *const Self).cast::<[f32; $n]>()) }
+            }
+        }
         /// Lane-wise IEEE equality of all lanes (a NaN lane makes packets unequal).
         impl PartialEq for $t {
             fn eq(&self, other: &Self) -> bool {
-                self.to_array() == other.to_array()
+                self.plain_lanes() == other.plain_lanes()
             }
         }
         impl core::fmt::Debug for $t {
             fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-                f.debug_list().entries(self.to_array().iter()).finish()
+                f.debug_list().entries(self.plain_lanes().iter()).finish()
             }
         }
         impl PartialEq for $m {
             fn eq(&self, other: &Self) -> bool {
-                crate::simd::SimdMask::bitmask(*self) == crate::simd::SimdMask::bitmask(*other)
+                self.plain_bits() == other.plain_bits()
             }
         }
         impl core::fmt::Debug for $m {
             fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-                let b = crate::simd::SimdMask::bitmask(*self);
+                let b = self.plain_bits();
                 f.debug_list()
                     .entries((0..$n).map(|i| b >> i & 1 != 0))
                     .finish()

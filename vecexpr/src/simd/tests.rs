@@ -151,6 +151,8 @@ impl Kernel for CheckOps {
                 assert_eq!(mask_lanes(m), want, "{:?} {name} {xa:?} {xb:?}", S::ISA);
                 let bits = m.bitmask();
                 assert_eq!(S::Mask::from_bitmask(bits), m);
+                // `Debug` (and `PartialEq` above) read the lanes without intrinsics.
+                assert_eq!(format!("{m:?}"), format!("{want:?}"));
                 for i in 0..n {
                     assert_eq!(bits >> i & 1 != 0, want[i]);
                 }
@@ -178,6 +180,9 @@ impl Kernel for CheckOps {
             for i in 0..n {
                 assert_eq!(a.lane(i).to_bits(), xa[i].to_bits());
             }
+            assert_eq!(format!("{a:?}"), format!("{xa:?}"));
+            let has_nan = xa.iter().any(|x| x.is_nan());
+            assert_eq!(a == S::load(&xa), !has_nan, "{:?} eq {xa:?}", S::ISA);
             checked += 1;
         }
         // Constructors.
