@@ -95,12 +95,7 @@ pub fn cargo() -> String {
 /// # Errors
 /// If rustc cannot be run.
 pub fn toolchain() -> Result<String, String> {
-    let rustc = std::env::var("RUSTC").unwrap_or_else(|_| "rustc".to_string());
-    let out = Command::new(&rustc)
-        .arg("-vV")
-        .output()
-        .map_err(|e| format!("cannot run {rustc}: {e}"))?;
-    let text = String::from_utf8_lossy(&out.stdout);
+    let text = rustc_version()?;
     let field = |k: &str| {
         text.lines()
             .find_map(|l| l.strip_prefix(k))
@@ -116,6 +111,20 @@ pub fn toolchain() -> Result<String, String> {
     ))
 }
 
+/// The output of `rustc -vV` (`$RUSTC` if set), run once per process.
+fn rustc_version() -> Result<String, String> {
+    static TEXT: std::sync::OnceLock<Result<String, String>> = std::sync::OnceLock::new();
+    TEXT.get_or_init(|| {
+        let rustc = std::env::var("RUSTC").unwrap_or_else(|_| "rustc".to_string());
+        let out = Command::new(&rustc)
+            .arg("-vV")
+            .output()
+            .map_err(|e| format!("cannot run {rustc}: {e}"))?;
+        Ok(String::from_utf8_lossy(&out.stdout).into_owned())
+    })
+    .clone()
+}
+
 /// The host's target triple (`rustc -vV`'s `host` line).
 ///
 /// The build passes it as `--target`, so that `RUSTFLAGS` reach the crates compiled for
@@ -126,16 +135,11 @@ pub fn toolchain() -> Result<String, String> {
 /// # Errors
 /// If rustc cannot be run or prints no host.
 pub fn host() -> Result<String, String> {
-    let rustc = std::env::var("RUSTC").unwrap_or_else(|_| "rustc".to_string());
-    let out = Command::new(&rustc)
-        .arg("-vV")
-        .output()
-        .map_err(|e| format!("cannot run {rustc}: {e}"))?;
-    String::from_utf8_lossy(&out.stdout)
+    rustc_version()?
         .lines()
         .find_map(|l| l.strip_prefix("host:"))
         .map(|h| h.trim().to_string())
-        .ok_or_else(|| format!("{rustc} -vV printed no host"))
+        .ok_or_else(|| "rustc -vV printed no host".to_string())
 }
 
 /// The command line that [`emit`] runs, as it appears in the dump headers.

@@ -71,14 +71,15 @@ impl<T: Real> TraversalRay<T> {
     #[inline(always)]
     pub fn new(origin: &Vec3<T>, dir: &Vec3<T>, t_min: T) -> Self {
         let inv_dir = [dir[0].recip(), dir[1].recip(), dir[2].recip()];
+        let slack = slack::<T>();
         Self {
             origin: [origin[0], origin[1], origin[2]],
             inv_dir,
             // 1/-0 = -inf, so a negative zero also picks `hi` as its near plane.
             neg: inv_dir.map(|x| x < T::ZERO),
             t_min,
-            slack: slack::<T>(),
-            inv_far: inv_dir.map(|x| x * slack::<T>()),
+            slack,
+            inv_far: inv_dir.map(|x| x * slack),
         }
     }
 

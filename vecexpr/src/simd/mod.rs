@@ -36,6 +36,29 @@
 use crate::scalar::{Mask, Scalar};
 use core::fmt;
 
+/// `plain_bits` of a mask type that wraps a vector of `$n` 32-bit lanes (all ones or
+/// all zeros): the lanes' bits (`1 << lane`) as [`SimdMask::bitmask`] gives them, read
+/// from memory without an intrinsic (for `PartialEq` and `Debug`, compiled for the
+/// baseline).
+#[cfg(target_arch = "x86_64")]
+macro_rules! vector_mask_plain_bits {
+    ($m:ident, $n:expr) => {
+        impl $m {
+            fn plain_bits(&self) -> u32 {
+                let p = (self as *const Self).cast::<[u32; $n]>();
+                // SAFETY: the type is a `repr(transparent)` wrapper of a vector of `$n`
+                // 32-bit lanes in memory order, as large as `[u32; $n]`; every bit
+                // pattern is a valid `u32`, and the read is unaligned.
+                let lanes = unsafe { core::ptr::read_unaligned(p) };
+                lanes
+                    .iter()
+                    .enumerate()
+                    .fold(0, |b, (i, &l)| b | (l >> 31) << i)
+            }
+        }
+    };
+}
+
 /// Operator and formatting boilerplate of a lane type with inherent `add_`, `sub_`,
 /// `mul_`, `div_`, `neg_` and `to_array` methods.
 #[cfg(target_arch = "x86_64")]

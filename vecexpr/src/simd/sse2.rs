@@ -101,21 +101,7 @@ impl Mask for M32x4 {
     }
 }
 
-impl M32x4 {
-    /// The lanes' bits (`1 << lane`) as [`SimdMask::bitmask`] gives them, read from
-    /// memory without an intrinsic (for `PartialEq` and `Debug`, compiled for the
-    /// baseline).
-    fn plain_bits(&self) -> u32 {
-        // SAFETY: `M32x4` is a `repr(transparent)` wrapper of a vector of 4 32-bit lanes
-        // in memory order, as large as `[u32; 4]`; every bit pattern is a valid `u32`,
-        // and the read is unaligned.
-        let lanes = unsafe { core::ptr::read_unaligned((self as *const Self).cast::<[u32; 4]>()) };
-        lanes
-            .iter()
-            .enumerate()
-            .fold(0, |b, (i, &l)| b | (l >> 31) << i)
-    }
-}
+vector_mask_plain_bits!(M32x4, 4);
 
 impl SimdMask for M32x4 {
     #[inline(always)]
