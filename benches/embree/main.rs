@@ -36,7 +36,7 @@ use rayon::prelude::*;
 use std::path::PathBuf;
 use std::time::Instant;
 use tracer::geometry::{offset_ray, polygon::triangulate, AccelOptions};
-use tracer::packet::MAX_LANES;
+use tracer::packets::MAX_LANES;
 use tracer::scene::desc::{SceneDesc, Shape};
 use tracer::stats::process_cpu_ms;
 use tracer::{Ray, Scene};
@@ -453,7 +453,7 @@ fn measure(
                     .zip(shadow.par_chunks(CHUNK))
                     .for_each(|(os, rs)| {
                         for (o, (r, d)) in os.iter_mut().zip(rs) {
-                            *o = scene.occluded(r, *d);
+                            *o = scene.occluded(&Ray { t_max: *d, ..*r });
                         }
                     })
             },

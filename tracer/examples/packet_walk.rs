@@ -19,7 +19,7 @@ use rayon::prelude::*;
 use std::process::ExitCode;
 use std::time::Instant;
 use tracer::geometry::AccelOptions;
-use tracer::packet::EyePackets;
+use tracer::packets::EyePackets;
 use tracer::{Ray, Scene};
 use vecexpr::simd::Isa;
 

@@ -11,7 +11,7 @@
 
 use crate::geometry::offset_ray;
 use crate::geometry::AccelOptions;
-use crate::packet::{EyePackets, Packets};
+use crate::packets::{EyePackets, Packets};
 use crate::ray::Ray;
 use crate::render::{render_with_stats, Schedule, Settings};
 use crate::scene::desc::SceneDesc;
@@ -19,7 +19,7 @@ use crate::stats::process_cpu_ms;
 use crate::world::Scene;
 use rayon::prelude::*;
 use std::time::Instant;
-use vecexpr::{Expr, Real};
+use vecexpr::Expr;
 
 /// Rays per parallel task when casting.
 pub const CHUNK: usize = 1024;
@@ -147,7 +147,7 @@ fn mrays(n: usize, ms: f64) -> f64 {
 }
 
 /// Measures one scene in precision `T` on the current rayon pool.
-pub fn bench_scene<T: Real>(name: &str, desc: &SceneDesc, opts: &BenchOptions) -> BenchRow {
+pub fn bench_scene<T: crate::Float>(name: &str, desc: &SceneDesc, opts: &BenchOptions) -> BenchRow {
     let mut builds = Vec::new();
     let mut scene = None;
     for _ in 0..opts.runs.max(1) {
@@ -231,7 +231,7 @@ pub fn bench_scene<T: Real>(name: &str, desc: &SceneDesc, opts: &BenchOptions) -
             .zip(shadow.par_chunks(CHUNK))
             .for_each(|(os, rs)| {
                 for (o, (r, d)) in os.iter_mut().zip(rs) {
-                    *o = scene.occluded(r, *d);
+                    *o = scene.occluded(&Ray { t_max: *d, ..*r });
                 }
             });
     });

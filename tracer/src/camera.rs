@@ -1,6 +1,9 @@
 //! The pinhole camera of the thesis: position $C_p$, direction $C_d$, up $C_u$ and left
-//! $C_l$, with the angle of view and aspect folded into the lengths of $C_u$ and $C_l$.
+//! $C_l$, with the angle of view and aspect folded into the lengths of $C_u$ and $C_l$;
+//! and where in a pixel its eye rays pass ([`Grid`]): every image-plane point the
+//! renderers, the packets and the viewer trace through is computed here.
 
+use crate::ray::Ray;
 use crate::scene::desc::CameraDesc;
 use vecexpr::{vec3, Expr, Real, Vec3};
 
@@ -74,4 +77,57 @@ impl<T: Real> Camera<T> {
         let y = T::ONE - two * py / T::from_f64(self.height as f64);
         (&self.dir + (&self.left).scale(x) + (&self.up).scale(y)).normalize()
     }
+
+    /// The eye ray through image-plane point $(\hat x, \hat y)$ (pixels).
+    #[inline]
+    pub fn ray(&self, px: T, py: T) -> Ray<T> {
+        Ray::new(self.position, self.direction(px, py))
+    }
+}
+
+/// The points of an image grid that eye rays pass through: grid point `(x, y)` is a
+/// pixel (or, for [`Grid::Corners`], a pixel corner).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Grid {
+    /// The pixel centre `(x + 1/2, y + 1/2)`.
+    Centers,
+    /// The pixel corner `(x, y)` (SPD mode: a `(w + 1) x (h + 1)` grid).
+    Corners,
+    /// Sample `(i, j)` of the regular `a` x `a` grid of supersamples in the pixel:
+    /// `(x + (i + 1/2) / a, y + (j + 1/2) / a)`.
+    Sample {
+        /// Column of the sample in the pixel.
+        i: u32,
+        /// Row of the sample in the pixel.
+        j: u32,
+        /// Samples per pixel and axis.
+        a: u32,
+    },
+}
+
+impl Grid {
+    /// The image-plane point of grid point `(x, y)`.
+    #[inline(always)]
+    pub fn point<T: Real>(self, x: usize, y: usize) -> (T, T) {
+        let (x, y) = (T::from_f64(x as f64), T::from_f64(y as f64));
+        match self {
+            // (0 + 1/2) * 1 = 1/2 exactly: the centre is sample (0, 0) of one.
+            Self::Centers => {
+                let half = sample_offset::<T>(0, 1);
+                (x + half, y + half)
+            }
+            Self::Corners => (x, y),
+            Self::Sample { i, j, a } => {
+                (x + sample_offset::<T>(i, a), y + sample_offset::<T>(j, a))
+            }
+        }
+    }
+}
+
+/// Where sample `i` of `a` lies along one axis of a pixel: $(i + 1/2) / a$, computed as
+/// $(i + 1/2) \cdot (1/a)$.
+#[inline(always)]
+pub fn sample_offset<T: Real>(i: u32, a: u32) -> T {
+    let a = a.max(1);
+    (T::from_f64(i as f64) + T::from_f64(0.5)) * T::from_f64(1.0 / a as f64)
 }

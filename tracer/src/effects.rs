@@ -18,11 +18,29 @@
 //! Every entry is a superset of what it is chosen for, and an effect a renderer keeps
 //! but the scene lacks has no effect on the image: the specialised and the general
 //! renderer give the same image bit for bit and trace the same rays.
+//!
+//! # The path of `FX`
+//! [`crate::render::render_with_stats`] derives the set the scene needs
+//! ([`EffectSet::required`]) and [`choose`]s an entry; for `f32` scenes (the proof
+//! [`crate::Float::AS_F32`]) a non-generic function matches the entry to a
+//! `const FX: u32` (`dispatch`, written by `effect_table!`), so each entry is compiled
+//! once, in this crate; `f64` scenes call the general instance directly. From there `FX`
+//! is a type-level constant all the way down: the render loop, `shade::trace_fx` and
+//! `shade::shade_fx` (where `has(FX, REFRACTION)` and the like fold to constants, so the
+//! light loop, highlight, reflection and refraction are compiled in or out), and the
+//! geometry queries, which read its primitive-kind bits ([`SPHERES`], [`TRIANGLES`],
+//! [`CONES`], [`PLANES`]: the same bits as [`crate::geometry::kinds`]) to drop the
+//! per-primitive type dispatch when one kind is present and to skip the planes.
+//! `tests/effects.rs` renders scenes with every entry that covers them and checks the
+//! images and ray counts against the general renderer.
 
+use crate::float::Float;
 use crate::geometry::kinds;
-use crate::render::Settings;
+use crate::settings::Settings;
 use crate::world::Scene;
 use serde::Serialize;
+
+pub use crate::settings::EffectsMode;
 use vecexpr::{Expr, Real};
 
 /// Shadow rays toward point lights (some light has a non-zero intensity).
@@ -71,27 +89,6 @@ pub const fn has(fx: u32, bit: u32) -> bool {
     fx & bit != 0
 }
 
-/// How the renderer is chosen.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, clap::ValueEnum)]
-#[serde(rename_all = "lowercase")]
-pub enum EffectsMode {
-    /// The specialised renderer for the effects the scene and settings need.
-    #[default]
-    Auto,
-    /// The general renderer, with every effect compiled in.
-    All,
-}
-
-impl EffectsMode {
-    /// `"auto"` or `"all"`.
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Auto => "auto",
-            Self::All => "all",
-        }
-    }
-}
-
 /// A set of effects and primitive kinds, as a bit mask of the constants in this module.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct EffectSet(u32);
@@ -122,7 +119,7 @@ impl EffectSet {
     /// needs `Ks > 0` or `T > 0` (SPD's rule and total internal reflection) and depth
     /// above 1, a refraction ray `T > 0` and depth above 1, adaptive termination a
     /// threshold not `<= 0`.
-    pub fn required<T: Real>(scene: &Scene<T>, settings: &Settings) -> Self {
+    pub fn required<T: Float>(scene: &Scene<T>, settings: &Settings) -> Self {
         let limits = settings.limits::<T>();
         let lit = scene
             .lights

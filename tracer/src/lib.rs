@@ -19,7 +19,7 @@
 //!
 //! let hit = scene.intersect(&Ray::new(vec3(0.0, 0.0, 5.0), vec3(0.0, 0.0, -1.0))).unwrap();
 //! assert!((hit.t - 4.0).abs() < 1e-5);
-//! assert!(scene.occluded(&Ray::new(vec3(0.0, 0.0, 5.0), vec3(0.0, 0.0, -1.0)), 10.0));
+//! assert!(scene.occluded(&Ray::new(vec3(0.0, 0.0, 5.0), vec3(0.0, 0.0, -1.0))));
 //!
 //! let image = render(&scene, &Settings { width: Some(32), height: Some(32), ..Settings::default() });
 //! assert_eq!((image.width, image.height), (32, 32));
@@ -32,20 +32,25 @@ pub mod bvh;
 pub mod camera;
 pub mod cycles;
 pub mod effects;
+pub mod float;
 pub mod geometry;
 pub mod image;
-pub mod packet;
+pub mod packets;
 pub mod ray;
 pub mod render;
 pub mod scene;
+pub mod schedule;
+pub mod settings;
 pub mod shade;
 pub mod stats;
 pub mod viewer;
 pub mod world;
 
 pub use camera::Camera;
+pub use float::Float;
 pub use image::Image;
 pub use ray::{Hit, Ray};
-pub use render::{render, render_with_stats, Settings};
+pub use render::{render, render_with_stats};
+pub use settings::Settings;
 pub use stats::RayCounts;
 pub use world::{Light, Material, Scene, SceneBuilder};

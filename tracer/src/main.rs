@@ -14,7 +14,6 @@ use tracer::render::{render_with_stats, Schedule, Scheduler, Settings};
 use tracer::scene::{self, desc::SceneDesc};
 use tracer::stats::{CycleClock, Cycles, Mark};
 use tracer::world::Scene;
-use vecexpr::Real;
 
 #[derive(Parser, Debug)]
 #[command(
@@ -83,8 +82,8 @@ struct PacketArgs {
 }
 
 impl PacketArgs {
-    fn packets(&self) -> Result<tracer::packet::Packets, String> {
-        tracer::packet::Packets::from_args(&self.packets, &self.isa)
+    fn packets(&self) -> Result<tracer::packets::Packets, String> {
+        tracer::packets::Packets::from_args(&self.packets, &self.isa)
     }
 }
 
@@ -346,7 +345,7 @@ fn run_render(args: &RenderArgs) -> Result<(), String> {
     }
 }
 
-fn render_in<T: Real>(
+fn render_in<T: tracer::Float>(
     args: &RenderArgs,
     desc: &SceneDesc,
     settings: &Settings,
@@ -364,7 +363,7 @@ fn render_in<T: Real>(
     let (total_ms, total_cycles) = (start.ms(), start.cycles());
     if let Some(path) = &args.stats {
         let g = scene.geometry.stats();
-        let (w, h) = settings.size(&scene);
+        let (w, h) = settings.size(scene.camera.resolution);
         let report = json!({
             "scene": args.scene.display().to_string(),
             "times_ms": { "parse": parse_ms, "build": build_ms, "trace": stats.trace_ms, "trace_cpu": stats.trace_cpu_ms, "total": total_ms },

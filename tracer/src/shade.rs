@@ -7,63 +7,24 @@
 //! Escaping rays see the background colour.
 
 use crate::arith::Arith;
-use crate::effects::{self, has, ADAPTIVE, REFLECTION, REFRACTION, SHADOWS, SPECULAR};
+use crate::effects::{has, ADAPTIVE, REFLECTION, REFRACTION, SHADOWS, SPECULAR};
+use crate::float::Float;
 use crate::geometry::{offset_ray, NO_HINT};
 use crate::ray::{Hit, Ray};
 use crate::stats::RayCounts;
-use crate::world::Scene;
+use crate::world::{Light, Scene};
+
+pub use crate::settings::TraceLimits;
 use std::cell::Cell;
 use vecexpr::{Expr, Real, Vec3};
 
-/// How deep and how far the recursion goes, and SPD's counting rules.
-#[derive(Clone, Copy, Debug)]
-pub struct TraceLimits<T: Real> {
-    /// Maximum ray depth: eye rays are depth 1 and rays at this depth spawn no
-    /// secondary rays (so 1 means local shading only).
-    pub max_depth: u32,
-    /// Adaptive termination: a secondary ray is spawned only if its accumulated weight
-    /// (product of the $K_r$/$K_t$ along its path) is at least this. 0 disables it.
-    pub threshold: T,
-    /// SPD rules: transmitting surfaces spawn a reflection ray even when `Ks` is 0.
-    pub spd: bool,
-    /// Approximate arithmetic in shading (exact by default).
-    pub arith: Arith,
-}
-
 /// Traces `ray` at `depth` (1 for eye rays) with accumulated `weight`, returning its
-/// radiance and counting the secondary rays it spawns. The general instance of
-/// [`trace_fx`].
-pub fn trace<T: Real>(
-    scene: &Scene<T>,
-    ray: &Ray<T>,
-    depth: u32,
-    weight: T,
-    limits: &TraceLimits<T>,
-    counts: &mut RayCounts,
-) -> Vec3<T> {
-    trace_fx::<T, { effects::ALL }>(scene, ray, depth, weight, limits, counts)
-}
-
-/// Local illumination plus the recursive terms at `hit`: the general instance of
-/// [`shade_fx`].
-#[allow(clippy::too_many_arguments)]
-pub fn shade<T: Real>(
-    scene: &Scene<T>,
-    ray: &Ray<T>,
-    hit: &Hit<T>,
-    depth: u32,
-    weight: T,
-    limits: &TraceLimits<T>,
-    counts: &mut RayCounts,
-) -> Vec3<T> {
-    shade_fx::<T, { effects::ALL }>(scene, ray, hit, depth, weight, limits, counts)
-}
-
-/// [`trace`] compiled for the effect set `FX` (see [`crate::effects`]), which must
-/// contain the effects the scene and `limits` need
-/// ([`crate::effects::EffectSet::required`]); it then returns what `trace` returns, bit
-/// for bit, and counts the same rays.
-pub fn trace_fx<T: Real, const FX: u32>(
+/// radiance and counting the secondary rays it spawns: the instance compiled for the
+/// effect set `FX` (see [`crate::effects`]), which must contain the effects the scene
+/// and `limits` need ([`crate::effects::EffectSet::required`]); every such instance
+/// returns what the general one (`FX` = [`crate::effects::ALL`]) returns, bit for bit,
+/// and counts the same rays.
+pub fn trace_fx<T: Float, const FX: u32>(
     scene: &Scene<T>,
     ray: &Ray<T>,
     depth: u32,
@@ -77,11 +38,11 @@ pub fn trace_fx<T: Real, const FX: u32>(
     }
 }
 
-/// [`shade`] compiled for the effect set `FX`, under the contract of [`trace_fx`]: the
-/// light loop, the highlight, the reflection and the refraction ray are only compiled
+/// Local illumination plus the recursive terms at `hit` of `ray`, compiled for the
+/// effect set `FX` under the contract of [`trace_fx`]: the light loop, the highlight, the reflection and the refraction ray are only compiled
 /// in when `FX` has them.
 #[allow(clippy::too_many_arguments)]
-pub fn shade_fx<T: Real, const FX: u32>(
+pub fn shade_fx<T: Float, const FX: u32>(
     scene: &Scene<T>,
     ray: &Ray<T>,
     hit: &Hit<T>,
@@ -94,11 +55,12 @@ pub fn shade_fx<T: Real, const FX: u32>(
 }
 
 /// [`shade_fx`] for an eye ray (depth 1) whose shadow rays toward the first 64 lights
-/// were already cast, built by [`shadow_ray`] and traced as packets: bit `li` of `blocked` says
+/// were already cast, built by [`shadow_ray`] and traced as packets
+/// ([`crate::packets::shadow_block`]): bit `li` of `blocked` says
 /// whether the shadow ray toward light `li` is blocked (read only for the lights the
 /// shading casts a shadow ray to). Further lights are queried as in `shade_fx`. Returns
 /// what `shade_fx` returns and counts the same rays.
-pub(crate) fn shade_eye_lit<T: Real, const FX: u32>(
+pub(crate) fn shade_eye_lit<T: Float, const FX: u32>(
     scene: &Scene<T>,
     ray: &Ray<T>,
     hit: &Hit<T>,
@@ -131,7 +93,7 @@ fn facing<T: Real>(hit: &Hit<T>, d: &Vec3<T>) -> (bool, Vec3<T>, Vec3<T>) {
 /// intensity, at the point itself, or behind the surface of (faced) normal `ng`.
 #[inline(always)]
 fn light_ray<T: Real>(
-    light: &crate::world::Light<T>,
+    light: &Light<T>,
     p: &Vec3<T>,
     ng: &Vec3<T>,
     above: &Vec3<T>,
@@ -165,7 +127,7 @@ pub(crate) fn shadow_start<T: Real>(ray: &Ray<T>, hit: &Hit<T>) -> (Vec3<T>, Vec
 /// ([`shadow_start`]), exactly as [`shade_fx`] builds it; `None` when it casts none.
 #[inline]
 pub(crate) fn shadow_ray<T: Real>(
-    light: &crate::world::Light<T>,
+    light: &Light<T>,
     hit: &Hit<T>,
     (ng, above): &(Vec3<T>, Vec3<T>),
     limits: &TraceLimits<T>,
@@ -180,7 +142,7 @@ pub(crate) fn shadow_ray<T: Real>(
 /// instructions per frame on balls-s4 with packets off, callgrind.)
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn shade_lit<T: Real, const FX: u32>(
+fn shade_lit<T: Float, const FX: u32>(
     scene: &Scene<T>,
     ray: &Ray<T>,
     hit: &Hit<T>,
@@ -281,7 +243,7 @@ thread_local! {
 
 /// Is the shadow ray toward light `light` from a hit of a depth-`depth` ray blocked?
 #[inline(always)]
-fn occluded_cached<T: Real, const FX: u32>(
+fn occluded_cached<T: Float, const FX: u32>(
     scene: &Scene<T>,
     shadow: &Ray<T>,
     depth: u32,

@@ -1,5 +1,11 @@
 //! The renderable scene: camera, lights, materials and geometry in one precision.
 //!
+//! A scene file is read into a [`crate::scene::SceneDesc`]: plain `f64` data as the file
+//! gives it, with no acceleration structure. [`Scene::from_desc`] (or a
+//! [`SceneBuilder`] in code) turns it into a [`Scene`] in the tracer's precision `T`,
+//! with the lights' intensities and the materials' Whitted weights derived and the
+//! primitives and their BVH built ([`Geometry`]): what the renderer reads.
+//!
 //! # How NFF's material maps onto the Whitted model
 //! NFF gives `f r g b Kd Ks Shine T ior`. With surface colour $C$:
 //! - ambient: $K_a I_a C$ with $I_a = 1$ and $K_a = \max(0, 1 - K_d - K_s - T)$, the
@@ -15,10 +21,12 @@
 //! moderate as lights are added, as the SPD exporters do); a coloured light uses its
 //! colour as intensity.
 
-use crate::geometry::{AccelOptions, Geometry};
+use crate::float::Float;
+use crate::geometry::{AccelOptions, Geometry, MAX_LANES};
 use crate::ray::{Hit, Ray};
 use crate::scene::desc::{CameraDesc, LightDesc, MaterialDesc, SceneDesc, Shape, ShapeDesc, P3};
 use crate::Camera;
+use vecexpr::simd::Isa;
 use vecexpr::{vec3, Real, Vec3};
 
 /// A surface material in the tracer's precision (see the module docs for the mapping).
@@ -66,44 +74,6 @@ impl<T: Real> Material<T> {
     }
 }
 
-impl MaterialDesc {
-    /// A matte material of the given colour (`Kd = 0.8`, so ambient 0.2).
-    pub fn diffuse(color: P3) -> Self {
-        Self {
-            color,
-            kd: 0.8,
-            ks: 0.0,
-            shine: 0.0,
-            t: 0.0,
-            ior: 1.0,
-        }
-    }
-
-    /// A mirror: `Kd = 0.3`, `Ks = 0.7`, highlight exponent 50.
-    pub fn mirror(color: P3) -> Self {
-        Self {
-            color,
-            kd: 0.3,
-            ks: 0.7,
-            shine: 50.0,
-            t: 0.0,
-            ior: 1.0,
-        }
-    }
-
-    /// Clear glass: `Kd = 0.05`, `Ks = 0.1`, `T = 0.85`, the given index of refraction.
-    pub fn glass(ior: f64) -> Self {
-        Self {
-            color: [1.0; 3],
-            kd: 0.05,
-            ks: 0.1,
-            shine: 200.0,
-            t: 0.85,
-            ior,
-        }
-    }
-}
-
 /// A point light.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Light<T: Real> {
@@ -131,7 +101,7 @@ fn v3<T: Real>(p: &P3) -> Vec3<T> {
     vec3(T::from_f64(p[0]), T::from_f64(p[1]), T::from_f64(p[2]))
 }
 
-impl<T: Real> Scene<T> {
+impl<T: Float> Scene<T> {
     /// Converts a parsed scene to this precision and builds its BVH.
     pub fn from_desc(desc: &SceneDesc, accel: &AccelOptions) -> Self {
         let n = desc.lights.len().max(1) as f64;
@@ -158,22 +128,16 @@ impl<T: Real> Scene<T> {
         }
     }
 
-    /// Starts a scene in code (the library API).
-    pub fn builder() -> SceneBuilder {
-        SceneBuilder::default()
-    }
-
     /// The closest hit along `ray` within its `(t_min, t_max)`.
     #[inline]
     pub fn intersect(&self, ray: &Ray<T>) -> Option<Hit<T>> {
         self.geometry.intersect(ray)
     }
 
-    /// Is anything hit along `ray` before `t_max`? (Any hit, early exit.)
+    /// Is anything hit along `ray` within its `(t_min, t_max)`? (Any hit, early exit.)
     #[inline]
-    pub fn occluded(&self, ray: &Ray<T>, t_max: T) -> bool {
-        let r = Ray { t_max, ..*ray };
-        self.geometry.occluded(&r)
+    pub fn occluded(&self, ray: &Ray<T>) -> bool {
+        self.geometry.occluded(ray)
     }
 
     /// [`Scene::intersect`] compiled for the primitive kinds in `KINDS` (see
@@ -183,16 +147,35 @@ impl<T: Real> Scene<T> {
         self.geometry.intersect_kinds::<KINDS>(ray)
     }
 
-    /// [`Scene::occluded`] compiled for the primitive kinds in `KINDS`.
-    #[inline]
-    pub fn occluded_kinds<const KINDS: u32>(&self, ray: &Ray<T>, t_max: T) -> bool {
-        let r = Ray { t_max, ..*ray };
-        self.geometry.occluded_kinds::<KINDS>(&r)
-    }
-
     /// The camera for an image of `width` x `height`.
     pub fn camera_for(&self, width: u32, height: u32) -> Camera<T> {
         Camera::new(&self.camera, width, height)
+    }
+}
+
+impl Scene<f32> {
+    /// The closest hits of a packet of rays ([`Geometry::intersect_packet`]).
+    ///
+    /// # Panics
+    /// If the CPU lacks `isa` or off x86-64.
+    pub fn intersect_packet(
+        &self,
+        isa: Isa,
+        rays: &[Option<Ray<f32>>; MAX_LANES],
+    ) -> [Option<Hit<f32>>; MAX_LANES] {
+        self.geometry.intersect_packet(isa, rays)
+    }
+
+    /// Whether each ray of a packet is blocked ([`Geometry::occluded_packet`]).
+    ///
+    /// # Panics
+    /// If the CPU lacks `isa` or off x86-64.
+    pub fn occluded_packet(
+        &self,
+        isa: Isa,
+        rays: &[Option<Ray<f32>>; MAX_LANES],
+    ) -> [bool; MAX_LANES] {
+        self.geometry.occluded_packet(isa, rays)
     }
 }
 
@@ -338,7 +321,7 @@ impl SceneBuilder {
     }
 
     /// Builds the scene in precision `T`.
-    pub fn build<T: Real>(&self) -> Scene<T> {
+    pub fn build<T: Float>(&self) -> Scene<T> {
         Scene::from_desc(&self.desc, &self.accel)
     }
 }

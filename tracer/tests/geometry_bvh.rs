@@ -140,7 +140,11 @@ fn random_rays<T: Real>(rng: &mut Pcg, n: usize) -> Vec<Ray<T>> {
 /// Checks every BVH configuration against brute force (computed once per triangle
 /// test) on every ray: the same `t` bit for bit, the same primitive and normals, and
 /// `occluded` agreeing with `intersect`. Returns the number of hits.
-fn compare<T: Real>(shapes: &[ShapeDesc], rays: &[Ray<T>], configs: &[AccelOptions]) -> usize {
+fn compare<T: tracer::Float>(
+    shapes: &[ShapeDesc],
+    rays: &[Ray<T>],
+    configs: &[AccelOptions],
+) -> usize {
     let mut hits = 0;
     for test in [TriangleTest::Watertight, TriangleTest::MollerTrumbore] {
         let configs: Vec<_> = configs.iter().filter(|c| c.triangle == test).collect();

@@ -61,7 +61,7 @@ fn to_t<T: Real>(p: &P3) -> Vec3<T> {
 
 /// Shoots rays from points inside toward every vertex, every edge midpoint and random
 /// directions; returns how many escaped.
-fn escapes<T: Real>(
+fn escapes<T: tracer::Float>(
     g: &Geometry<T>,
     pos: &[P3],
     tris: &[[u32; 3]],

@@ -5,7 +5,7 @@
 
 use std::path::Path;
 use tracer::geometry::{AccelOptions, TriangleTest};
-use tracer::packet::{EyePackets, Packets};
+use tracer::packets::{EyePackets, Packets};
 use tracer::render::{render_with_stats, Settings};
 use tracer::{Hit, Ray, Scene};
 use vecexpr::simd::Isa;

@@ -289,9 +289,14 @@ fn shadow_ray_blocks_the_light() {
     let ray = tracer::Ray::new(origin, dir);
     let hit = scene.intersect(&ray).expect("floor");
     assert!(hit.point.length() < 1e-9, "{:?}", hit.point);
-    let towards_light =
-        tracer::Ray::new(vecexpr::vec3(0.0, 0.0, 1e-6), vecexpr::vec3(0.0, 0.0, 1.0));
-    assert!(scene.occluded(&towards_light, 10.0));
-    let beside = tracer::Ray::new(vecexpr::vec3(3.0, 0.0, 1e-6), vecexpr::vec3(0.0, 0.0, 1.0));
-    assert!(!scene.occluded(&beside, 10.0));
+    let towards_light = tracer::Ray {
+        t_max: 10.0,
+        ..tracer::Ray::new(vecexpr::vec3(0.0, 0.0, 1e-6), vecexpr::vec3(0.0, 0.0, 1.0))
+    };
+    assert!(scene.occluded(&towards_light));
+    let beside = tracer::Ray {
+        t_max: 10.0,
+        ..tracer::Ray::new(vecexpr::vec3(3.0, 0.0, 1e-6), vecexpr::vec3(0.0, 0.0, 1.0))
+    };
+    assert!(!scene.occluded(&beside));
 }

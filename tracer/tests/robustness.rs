@@ -8,9 +8,9 @@
 
 use tracer::geometry::{offset_ray, AccelOptions, Geometry, GeometryBuilder, TriangleTest};
 use tracer::scene::desc::{MaterialDesc, P3};
-use tracer::shade::{trace, TraceLimits};
+use tracer::shade::{trace_fx, TraceLimits};
 use tracer::{render, Image, Ray, RayCounts, Scene, SceneBuilder, Settings};
-use vecexpr::{vec3, Expr, Real, Vec3};
+use vecexpr::{vec3, Expr, Vec3};
 
 // ----- helpers ----------------------------------------------------------------------------
 
@@ -85,10 +85,22 @@ fn basis(a: P3) -> (P3, P3) {
     (u, cross(a, u))
 }
 
-fn v<T: Real>(p: P3) -> Vec3<T> {
+/// The radiance of `ray` as the general renderer traces it.
+fn trace<T: tracer::Float>(
+    scene: &Scene<T>,
+    ray: &Ray<T>,
+    depth: u32,
+    weight: T,
+    limits: &TraceLimits<T>,
+    counts: &mut RayCounts,
+) -> Vec3<T> {
+    trace_fx::<T, { tracer::effects::ALL }>(scene, ray, depth, weight, limits, counts)
+}
+
+fn v<T: tracer::Float>(p: P3) -> Vec3<T> {
     vec3(T::from_f64(p[0]), T::from_f64(p[1]), T::from_f64(p[2]))
 }
-fn w<T: Real>(p: &Vec3<T>) -> P3 {
+fn w<T: tracer::Float>(p: &Vec3<T>) -> P3 {
     [p[0].to_f64(), p[1].to_f64(), p[2].to_f64()]
 }
 
@@ -154,7 +166,11 @@ fn icosphere(center: P3, radius: f64, levels: u32) -> (Vec<P3>, Vec<[u32; 3]>) {
     (pos, tris)
 }
 
-fn mesh_geometry<T: Real>(pos: &[Vec3<T>], tris: &[[u32; 3]], test: TriangleTest) -> Geometry<T> {
+fn mesh_geometry<T: tracer::Float>(
+    pos: &[Vec3<T>],
+    tris: &[[u32; 3]],
+    test: TriangleTest,
+) -> Geometry<T> {
     let opts = AccelOptions {
         triangle: test,
         ..AccelOptions::default()
@@ -374,7 +390,7 @@ fn rendered_distant_disc_has_no_holes_or_speckles() {
 /// Rays exactly tangent (in f64) to spheres, rounded to the precision at hand: hit or
 /// miss, `intersect` and `occluded` agree, and a hit is on the surface near the tangent
 /// point.
-fn tangent_rays<T: Real>(tol: f64) {
+fn tangent_rays<T: tracer::Float>(tol: f64) {
     let mut rng = Rng(11);
     let mut hits = 0;
     let n = 20_000;
@@ -489,7 +505,7 @@ impl SelfHits {
 
 /// The offset this tracer used before: a few hundred ulps of the largest coordinate (at
 /// least 1) along the normal. Kept here to compare against.
-fn scaled_epsilon<T: Real>(p: &Vec3<T>, n: &Vec3<T>, _dir: &Vec3<T>) -> Vec3<T> {
+fn scaled_epsilon<T: tracer::Float>(p: &Vec3<T>, n: &Vec3<T>, _dir: &Vec3<T>) -> Vec3<T> {
     let scale = p.abs().max_element().max(T::ONE);
     (p + n.scale(scale * T::EPSILON * T::from_f64(512.0))).eval()
 }
@@ -501,7 +517,7 @@ type Offset<T> = fn(&Vec3<T>, &Vec3<T>, &Vec3<T>) -> Vec3<T>;
 /// at up to $10^5$ from the origin (`max_ratio`: at most this many times the scale, to
 /// stay within what the precision can represent); from each, reflection, refraction
 /// (ior 1.5) and shadow rays spawned as the shader spawns them.
-fn spawn_rays<T: Real>(
+fn spawn_rays<T: tracer::Float>(
     kind: Kind,
     configs: usize,
     per: usize,
@@ -766,7 +782,7 @@ fn lone_convex_objects_have_no_self_shadowed_pixel() {
 
 // ----- refraction -------------------------------------------------------------------------
 
-fn limits<T: Real>(max_depth: u32) -> TraceLimits<T> {
+fn limits<T: tracer::Float>(max_depth: u32) -> TraceLimits<T> {
     TraceLimits {
         max_depth,
         threshold: T::ZERO,
@@ -777,7 +793,7 @@ fn limits<T: Real>(max_depth: u32) -> TraceLimits<T> {
 
 /// Nested glass of index 1 (a sphere inside a sphere, and a triangle slab) is invisible:
 /// every pixel is the background, in both precisions, grazing rays included.
-fn index_one_is_invisible<T: Real>() {
+fn index_one_is_invisible<T: tracer::Float>() {
     let mut b = SceneBuilder::default();
     let glass = b.add_material(material(0.0, 0.0, 1.0, 1.0, [1.0, 1.0, 1.0]));
     b.add_sphere([0.0; 3], 1.0, glass);
@@ -829,7 +845,7 @@ fn glass_of_index_one_passes_straight_through() {
 /// grazing included, refracts in and out again (no total internal reflection on the way
 /// out, since the inner angle is below the critical one); a ray inside beyond the critical
 /// angle is totally reflected and its weight goes to the reflection ray.
-fn enter_leave_and_tir<T: Real>() {
+fn enter_leave_and_tir<T: tracer::Float>() {
     let mut b = SceneBuilder::default();
     let glass = b.add_material(material(0.0, 0.0, 1.0, 1.5, [1.0, 1.0, 1.0]));
     b.add_sphere([0.0; 3], 1.0, glass);
@@ -1045,7 +1061,7 @@ fn degenerate_scene_renders_without_nan() {
 }
 
 /// A scene with every primitive type, including an infinite plane.
-fn all_kinds<T: Real>() -> Scene<T> {
+fn all_kinds<T: tracer::Float>() -> Scene<T> {
     let mut b = SceneBuilder::default();
     b.add_material(material(0.5, 0.3, 0.2, 1.5, [1.0, 0.8, 0.6]));
     b.add_light([3.0, 4.0, 5.0], None);
@@ -1075,7 +1091,7 @@ fn all_kinds<T: Real>() -> Scene<T> {
 /// Rays with NaN or infinite components, zero directions and broken intervals hit
 /// nothing, are never occluded, and shade to the background; rays parallel to a plane or
 /// lying in a triangle's plane give no NaN.
-fn invalid_rays<T: Real>() {
+fn invalid_rays<T: tracer::Float>() {
     let scene = all_kinds::<T>();
     let bad = [T::NAN, T::INFINITY, T::NEG_INFINITY];
     let mut rng = Rng(3);
@@ -1098,7 +1114,7 @@ fn invalid_rays<T: Real>() {
             t_max,
         };
         assert!(scene.intersect(&ray).is_none(), "{ray:?}");
-        assert!(!scene.occluded(&ray, ray.t_max));
+        assert!(!scene.occluded(&ray));
         let c = trace(
             &scene,
             &ray,

@@ -14,7 +14,7 @@
 
 pub mod build;
 pub mod node;
-pub mod packet;
+pub mod packet_traverse;
 pub mod traverse;
 pub mod wide;
 
@@ -121,10 +121,5 @@ impl Bvh {
         } else {
             0.0
         }
-    }
-
-    /// The root box, or `None` when empty.
-    pub fn root_bounds(&self) -> Option<[[f32; 3]; 2]> {
-        self.nodes.first().map(|n| n.bounds)
     }
 }

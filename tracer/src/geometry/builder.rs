@@ -212,7 +212,10 @@ impl<T: Real> GeometryBuilder<T> {
     }
 
     /// Builds the BVH (per `opts`) and returns the finished geometry.
-    pub fn build(self, opts: &AccelOptions) -> Geometry<T> {
+    pub fn build(self, opts: &AccelOptions) -> Geometry<T>
+    where
+        T: crate::float::Float,
+    {
         Geometry::from_builder(self, opts, std::time::Instant::now())
     }
 

@@ -48,7 +48,7 @@ pub mod aabb;
 pub mod builder;
 pub mod cone;
 pub mod offset;
-pub mod packet;
+pub mod packet_query;
 pub mod plane;
 pub mod polygon;
 pub(crate) mod ray_data;
@@ -61,12 +61,14 @@ pub use builder::GeometryBuilder;
 pub use cone::Cone;
 pub use offset::offset_ray;
 pub use plane::Plane;
+pub use ray_data::MAX_LANES;
 pub use sphere::Sphere;
 pub use triangle::Triangle;
 use triangle::{Tri4, TRI4_LANES};
 
 use crate::bvh::wide::Leaf;
 use crate::bvh::{Bounds3, BuildConfig, Bvh};
+use crate::float::Float;
 use crate::ray::{Hit, Ray};
 use crate::scene::desc::ShapeDesc;
 use ray_data::RayData;
@@ -238,7 +240,7 @@ pub struct Geometry<T: Real> {
     stats: GeometryStats,
 }
 
-impl<T: Real> Geometry<T> {
+impl<T: Float> Geometry<T> {
     /// Converts the shapes to `T` and builds the acceleration structure. A hit's
     /// `prim_id` is the index of its shape in `shapes`.
     pub fn build(shapes: &[ShapeDesc], opts: &AccelOptions) -> Self {

@@ -1,7 +1,10 @@
-//! Per-ray values shared by all primitive tests, computed once per query.
+//! Per-ray values shared by all primitive tests, computed once per query: [`RayData`] for
+//! one ray, [`PacketData`] for a packet of rays in SIMD lanes (the same values, lane by
+//! lane).
 
 use crate::bvh::TraversalRay;
 use crate::ray::Ray;
+use vecexpr::simd::SimdF32;
 use vecexpr::{Expr, Real, Vec3};
 
 /// The shear that maps the ray to the +z axis for the watertight triangle test (Woop,
@@ -114,6 +117,36 @@ impl<T: Real> RayData<T> {
     pub fn accepts(&self, t: T, t_max: T) -> bool {
         t > self.t_min && t <= t_max
     }
+}
+
+/// The widest packet (AVX-512: sixteen `f32` lanes).
+pub const MAX_LANES: usize = 16;
+
+/// Per-lane ray values of the packet kernels (what [`RayData`] holds for one ray).
+pub(crate) struct PacketData<S: SimdF32> {
+    pub(crate) origin: Vec3<S>,
+    pub(crate) dir: Vec3<S>,
+    pub(crate) t_min: S,
+    pub(crate) dd: S,
+    pub(crate) inv_dd: S,
+    /// The watertight shear when every ray of the packet has the same axes.
+    pub(crate) shear: Option<PacketShear<S>>,
+}
+
+/// The watertight shear of a packet whose rays share their axes.
+///
+/// The origin is kept in the sheared axis order too, so a triangle test picks its
+/// vertex coordinates by axis from memory (scalars, before the splat) and never indexes
+/// a vector of registers by a run-time axis (which costs a round trip through memory).
+pub(crate) struct PacketShear<S: SimdF32> {
+    pub(crate) kx: usize,
+    pub(crate) ky: usize,
+    pub(crate) kz: usize,
+    pub(crate) sx: S,
+    pub(crate) sy: S,
+    pub(crate) sz: S,
+    /// The origins' `kx`, `ky`, `kz` coordinates.
+    pub(crate) o: [S; 3],
 }
 
 #[cfg(test)]

@@ -8,10 +8,17 @@
 //!   catastrophically when the sphere is small and far away (their eq. 7.5).
 //! - The roots are $t_0 = c'/q$, $t_1 = q/a$ with $q = -b' - \mathrm{sign}(b')\sqrt{\cdot}$,
 //!   avoiding the subtraction of nearly equal numbers (their eq. 7.6, after Press et al.).
+//!
+//! The single-ray test and its lane version (`sphere_packet`, one sphere against a packet
+//! of rays, for `packet_query`) sit side by side below, the same operations in the same
+//! order. They are two sources because the single ray leaves as soon as the
+//! discriminant is negative, while the lanes compute both roots for every ray and
+//! select; one source over a one-lane type would give up that early exit.
 
-use super::ray_data::RayData;
+use super::ray_data::{PacketData, RayData};
 use crate::ray::Ray;
-use vecexpr::{Expr, Real, Vec3};
+use vecexpr::simd::SimdF32;
+use vecexpr::{vec3, Expr, Mask, Real, Vec3};
 
 /// A sphere as the traversal sees it (16 bytes in `f32`).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -63,6 +70,35 @@ impl<T: Real> Sphere<T> {
             ((-&r.dir).normalize(), (r.origin + (&r.dir).scale(t)).eval())
         }
     }
+}
+
+/// [`Sphere::intersect`] in every lane: the lanes with a hit in `(t_min, t_max]`, and
+/// their distances.
+#[inline(always)]
+pub(crate) fn sphere_packet<S: SimdF32>(
+    s: &Sphere<f32>,
+    r: &PacketData<S>,
+    t_max: S,
+) -> (S::Mask, S) {
+    let center = vec3(
+        S::splat(s.center[0]),
+        S::splat(s.center[1]),
+        S::splat(s.center[2]),
+    );
+    let f = (r.origin - center).eval();
+    let b = f.dot(&r.dir);
+    let r2 = S::splat(s.radius * s.radius);
+    let l = (f - (&r.dir).scale(b * r.inv_dd)).eval();
+    let disc = r2 - l.length_squared();
+    let real = disc.lt(S::zero()).not();
+    let c = f.length_squared() - r2;
+    let q = -b - (r.dd * disc).sqrt().copysign(b);
+    let (t0, t1) = (c / q, q * r.inv_dd);
+    let swap = t1.lt(t0);
+    let (near, far) = (S::select(swap, t1, t0), S::select(swap, t0, t1));
+    let near_ok = near.gt(r.t_min).and(near.le(t_max));
+    let far_ok = far.gt(r.t_min).and(far.le(t_max));
+    (real.and(near_ok.or(far_ok)), S::select(near_ok, near, far))
 }
 
 #[cfg(test)]

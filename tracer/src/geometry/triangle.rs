@@ -21,11 +21,22 @@
 //! performs exactly the operations of `Triangle::intersect_watertight` in the same
 //! order, with the same `f64` fallback on an exact zero, so its result is bit-identical
 //! to the scalar test of that triangle.
+//!
+//! # One formula, two sources
+//! The two lane versions of the watertight test, four triangles against one ray
+//! (`Tri4`) and one triangle against a packet of rays (`triangle_packet`, used by
+//! `packet_query`), are one source over `vecexpr`'s `SimdF32` lanes (`sheared_edges`,
+//! `watertight_finish`); they differ only in which operands are splatted. The
+//! single-ray test stays a separate source: it leaves at the first failed test (the
+//! sign test rejects most triangles before the division), recomputes an exact zero in
+//! `f64` inline and reads the shear axes by index, none of which a lane version can do
+//! for all lanes at once; written over a one-lane type it would compute every step for
+//! every triangle.
 
-use super::ray_data::RayData;
-use vecexpr::generic_array::GenericArray;
-use vecexpr::typenum::U4;
-use vecexpr::{Expr, Mask, Packet, Real, Scalar, Vec3};
+use super::ray_data::{PacketData, PacketShear, RayData};
+use crate::float::{Family, Float};
+use vecexpr::simd::{SimdF32, SimdMask};
+use vecexpr::{vec3, Expr, Mask, Real, Vec3};
 
 /// A triangle as the traversal sees it (36 bytes in `f32`).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -123,8 +134,6 @@ impl<T: Real> Triangle<T> {
 /// Lanes of a [`Tri4`].
 pub const TRI4_LANES: usize = 4;
 
-type P4<T> = Packet<T, U4>;
-
 /// Up to four triangles in structure-of-arrays form (160 bytes in `f32`): `v[vertex]
 /// [axis][lane]`, and the index of each lane's triangle in the triangle array. A group
 /// with fewer than four triangles repeats its last one in the unused lanes, which
@@ -166,86 +175,219 @@ impl<T: Real> Tri4<T> {
         }
     }
 
-    /// The watertight test of `Triangle::intersect_watertight` on all four lanes:
-    /// lane `i` of the result is bit for bit what the scalar test returns for lane
-    /// `i`'s triangle. In `f32` on x86-64 the lanes are SSE registers
-    /// ([`vecexpr::simd::F32x4`]); otherwise `vecexpr` packets of `T`.
+    /// Lane `i`'s triangle.
     #[inline(always)]
-    pub(crate) fn intersect_watertight(&self, r: &RayData<T>, t_max: T) -> Tri4Hits<T> {
-        #[cfg(target_arch = "x86_64")]
-        {
-            use core::any::Any;
-            let g = (self as &dyn Any).downcast_ref::<Tri4<f32>>();
-            let rf = (r as &dyn Any).downcast_ref::<RayData<f32>>();
-            if let (Some(g), Some(rf)) = (g, rf) {
-                // `T` is `f32`: the conversions below are exact and fold away.
-                let h = g.intersect_lanes::<vecexpr::simd::F32x4>(rf, t_max.to_f64() as f32);
-                let back = |x: [f32; TRI4_LANES]| x.map(|v| <T as Real>::from_f64(f64::from(v)));
-                return Tri4Hits {
-                    bits: h.bits,
-                    t: back(h.t),
-                    b1: back(h.b1),
-                    b2: back(h.b2),
-                };
-            }
-        }
-        self.intersect_lanes::<P4<T>>(r, t_max)
-    }
-
-    /// `Tri4::intersect_watertight` over the lane type `L`.
-    #[inline(always)]
-    fn intersect_lanes<L: Lanes4<T>>(&self, r: &RayData<T>, t_max: T) -> Tri4Hits<T> {
-        let s = &r.shear;
-        let (ax, ay, az) = sheared::<T, L>(&self.v[0], r);
-        let (bx, by, bz) = sheared::<T, L>(&self.v[1], r);
-        let (cx, cy, cz) = sheared::<T, L>(&self.v[2], r);
-        let mut u = cx * by - cy * bx;
-        let mut v = ax * cy - ay * cx;
-        let mut w = bx * ay - by * ax;
-        let zero = L::splat(T::ZERO);
-        let any_zero = L::bits(u.eq_mask(zero).or(v.eq_mask(zero)).or(w.eq_mask(zero)));
-        if any_zero != 0 {
-            (u, v, w) = exact_edges(any_zero, [ax, ay, bx, by, cx, cy], [u, v, w]);
-        }
-        // Two-sided: all of one sign (zeros allowed on edges).
-        let neg = u.lt(zero).or(v.lt(zero)).or(w.lt(zero));
-        let pos = u.gt(zero).or(v.gt(zero)).or(w.gt(zero));
-        let det = u + v + w;
-        let sz = L::splat(s.sz);
-        let t_scaled = u * (sz * az) + v * (sz * bz) + w * (sz * cz);
-        let inv = L::splat(T::ONE) / det;
-        let t = t_scaled * inv;
-        let accept = t.gt(L::splat(r.t_min)).and(t.le(L::splat(t_max)));
-        let hit = neg.and(pos).not().and(det.eq_mask(zero).not()).and(accept);
-        Tri4Hits {
-            bits: L::bits(hit),
-            t: t.to_array(),
-            b1: (v * inv).to_array(),
-            b2: (w * inv).to_array(),
+    fn triangle(&self, i: usize) -> Triangle<T> {
+        Triangle {
+            v: core::array::from_fn(|k| vec3(self.v[k][0][i], self.v[k][1][i], self.v[k][2][i])),
         }
     }
 }
 
-/// One vertex of four triangles relative to the ray origin and sheared in x and y as in
-/// `Triangle::intersect_watertight`: `(x, y, z)`, `z` not yet scaled.
+impl<T: Float> Tri4<T> {
+    /// The watertight test of `Triangle::intersect_watertight` on all four lanes:
+    /// lane `i` of the result is bit for bit what the scalar test returns for lane
+    /// `i`'s triangle. In `f32` on x86-64 the lanes are one SSE register
+    /// ([`vecexpr::simd::F32x4`], [`Tri4::intersect_lanes`]); `vecexpr` has no `f64`
+    /// lane type, so in `f64` (and off x86-64) the scalar test runs lane by lane.
+    #[inline(always)]
+    pub(crate) fn intersect_watertight(&self, r: &RayData<T>, t_max: T) -> Tri4Hits<T> {
+        #[cfg(target_arch = "x86_64")]
+        if let Some(p) = T::AS_F32 {
+            let g = T::to_f32::<Tri4Of>(p, self);
+            let rf = T::to_f32::<RayDataOf>(p, r);
+            let t_max = *T::to_f32::<ScalarOf>(p, &t_max);
+            let h = g.intersect_lanes::<vecexpr::simd::F32x4>(rf, t_max);
+            return T::from_f32::<Tri4HitsOf>(p, h);
+        }
+        let mut h = Tri4Hits {
+            bits: 0,
+            t: [T::ZERO; TRI4_LANES],
+            b1: [T::ZERO; TRI4_LANES],
+            b2: [T::ZERO; TRI4_LANES],
+        };
+        for i in 0..TRI4_LANES {
+            if let Some((t, b1, b2)) = self.triangle(i).intersect_watertight(r, t_max) {
+                h.bits |= 1 << i;
+                (h.t[i], h.b1[i], h.b2[i]) = (t, b1, b2);
+            }
+        }
+        h
+    }
+}
+
+impl Tri4<f32> {
+    /// `Tri4::intersect_watertight` over the `f32` lanes `S` (four of them).
+    #[inline(always)]
+    fn intersect_lanes<S: SimdF32>(&self, r: &RayData<f32>, t_max: f32) -> Tri4Hits<f32> {
+        let s = &r.shear;
+        let (a, b, c) = (
+            relative(&self.v[0], r),
+            relative(&self.v[1], r),
+            relative(&self.v[2], r),
+        );
+        let (sx, sy, sz) = (S::splat(s.sx), S::splat(s.sy), S::splat(s.sz));
+        let e = sheared_edges(&a, &b, &c, sx, sy);
+        let zero = S::zero();
+        let [u, v, w] = e.uvw;
+        let any_zero = u
+            .eq_mask(zero)
+            .or(v.eq_mask(zero))
+            .or(w.eq_mask(zero))
+            .bitmask();
+        let uvw = if any_zero != 0 {
+            exact_edges(any_zero, e.xy, e.uvw)
+        } else {
+            e.uvw
+        };
+        let (t_min, t_max) = (S::splat(r.t_min), S::splat(t_max));
+        let h = watertight_finish(uvw, [a[2], b[2], c[2]], sz, t_min, t_max);
+        Tri4Hits {
+            bits: h.hit.bitmask(),
+            t: lanes4(h.t),
+            b1: lanes4(h.b1),
+            b2: lanes4(h.b2),
+        }
+    }
+}
+
+/// The watertight test of one triangle against a packet of rays sharing their shear
+/// axes (`f32` lanes, one ray a lane): [`Triangle::intersect_watertight`] lane by lane,
+/// except that the lanes with an edge function exactly zero are not decided here but
+/// returned in [`TriangleLanes::exact`], for the single-ray test to decide in `f64`.
 #[inline(always)]
-fn sheared<T: Real, L: Lanes4<T>>(v: &[[T; TRI4_LANES]; 3], r: &RayData<T>) -> (L, L, L) {
+pub(crate) fn triangle_packet<S: SimdF32>(
+    tri: &Triangle<f32>,
+    r: &PacketData<S>,
+    s: &PacketShear<S>,
+    t_max: S,
+) -> TriangleLanes<S> {
+    let (a, b, c) = (rel(&tri.v[0], s), rel(&tri.v[1], s), rel(&tri.v[2], s));
+    let e = sheared_edges(&a, &b, &c, s.sx, s.sy);
+    let zero = S::zero();
+    let [u, v, w] = e.uvw;
+    let exact = u.eq_mask(zero).or(v.eq_mask(zero)).or(w.eq_mask(zero));
+    let h = watertight_finish(e.uvw, [a[2], b[2], c[2]], s.sz, r.t_min, t_max);
+    TriangleLanes {
+        hit: h.hit.and(exact.not()),
+        exact,
+        t: h.t,
+        b1: h.b1,
+        b2: h.b2,
+    }
+}
+
+/// One vertex of four triangles relative to the ray origin, in the sheared axis order.
+#[inline(always)]
+fn relative<S: SimdF32>(v: &[[f32; TRI4_LANES]; 3], r: &RayData<f32>) -> [S; 3] {
     let s = &r.shear;
-    let x = L::load(&v[s.kx]) - L::splat(r.origin[s.kx]);
-    let y = L::load(&v[s.ky]) - L::splat(r.origin[s.ky]);
-    let z = L::load(&v[s.kz]) - L::splat(r.origin[s.kz]);
-    (x - L::splat(s.sx) * z, y - L::splat(s.sy) * z, z)
+    [
+        S::load(&v[s.kx]) - S::splat(r.origin[s.kx]),
+        S::load(&v[s.ky]) - S::splat(r.origin[s.ky]),
+        S::load(&v[s.kz]) - S::splat(r.origin[s.kz]),
+    ]
+}
+
+/// The four lanes of `x`.
+#[inline(always)]
+fn lanes4<S: SimdF32>(x: S) -> [f32; TRI4_LANES] {
+    let mut a = [0.0; TRI4_LANES];
+    x.store(&mut a);
+    a
+}
+
+/// What [`triangle_packet`] found: hit lanes, lanes the single-ray test must decide
+/// (an edge function exactly zero), and the hits' `t`, `b1`, `b2`.
+pub(crate) struct TriangleLanes<S: SimdF32> {
+    pub(crate) hit: S::Mask,
+    pub(crate) exact: S::Mask,
+    pub(crate) t: S,
+    pub(crate) b1: S,
+    pub(crate) b2: S,
+}
+
+/// Vertex `v` relative to the origins, in the sheared axis order: lane by lane the
+/// single-ray test's `a[kx]`, `a[ky]`, `a[kz]`. (Functions, not closures, carry the
+/// lane operations throughout: a closure does not inherit the instruction set of the
+/// `#[target_feature]` entry point and may be left out of line with calls to the
+/// intrinsics inside.)
+#[inline(always)]
+fn rel<S: SimdF32>(v: &Vec3<f32>, s: &PacketShear<S>) -> [S; 3] {
+    [
+        S::splat(v[s.kx]) - s.o[0],
+        S::splat(v[s.ky]) - s.o[1],
+        S::splat(v[s.kz]) - s.o[2],
+    ]
+}
+
+/// The sheared `x`, `y` of the three vertices and the edge functions, lane by lane as
+/// `Triangle::intersect_watertight` computes them.
+struct Edges<S> {
+    /// `[ax, ay, bx, by, cx, cy]`.
+    xy: [S; 6],
+    /// `[u, v, w]`.
+    uvw: [S; 3],
+}
+
+/// The lanes' edge functions of vertices `a`, `b`, `c` (relative to the ray origin, in
+/// the sheared axis order) with the shear `sx`, `sy`: the one source of both lane
+/// versions of the watertight test (four triangles against one ray, one triangle
+/// against a packet of rays).
+#[inline(always)]
+fn sheared_edges<S: SimdF32>(a: &[S; 3], b: &[S; 3], c: &[S; 3], sx: S, sy: S) -> Edges<S> {
+    let (ax, ay) = (a[0] - sx * a[2], a[1] - sy * a[2]);
+    let (bx, by) = (b[0] - sx * b[2], b[1] - sy * b[2]);
+    let (cx, cy) = (c[0] - sx * c[2], c[1] - sy * c[2]);
+    Edges {
+        xy: [ax, ay, bx, by, cx, cy],
+        uvw: [cx * by - cy * bx, ax * cy - ay * cx, bx * ay - by * ax],
+    }
+}
+
+/// What [`watertight_finish`] found.
+struct WatertightLanes<S: SimdF32> {
+    hit: S::Mask,
+    t: S,
+    b1: S,
+    b2: S,
+}
+
+/// The rest of the watertight test over lanes, from the edge functions `uvw` and the
+/// unscaled sheared `z` of the vertices: the sign test (two-sided, zeros allowed on
+/// edges), the determinant and the distance in `(t_min, t_max]`.
+#[inline(always)]
+fn watertight_finish<S: SimdF32>(
+    [u, v, w]: [S; 3],
+    [az, bz, cz]: [S; 3],
+    sz: S,
+    t_min: S,
+    t_max: S,
+) -> WatertightLanes<S> {
+    let zero = S::zero();
+    let neg = u.lt(zero).or(v.lt(zero)).or(w.lt(zero));
+    let pos = u.gt(zero).or(v.gt(zero)).or(w.gt(zero));
+    let det = u + v + w;
+    let t_scaled = u * (sz * az) + v * (sz * bz) + w * (sz * cz);
+    let inv = det.recip();
+    let t = t_scaled * inv;
+    let accept = t.gt(t_min).and(t.le(t_max));
+    WatertightLanes {
+        hit: neg.and(pos).not().and(det.eq_mask(zero).not()).and(accept),
+        t,
+        b1: v * inv,
+        b2: w * inv,
+    }
 }
 
 /// The scalar test's `f64` recomputation of the edge functions, on the lanes of
 /// `lanes` (bits) where one of them is exactly zero; `p = [ax, ay, bx, by, cx, cy]`.
 #[cold]
 #[inline(never)]
-fn exact_edges<T: Real, L: Lanes4<T>>(lanes: u32, p: [L; 6], uvw: [L; 3]) -> (L, L, L) {
-    let [ax, ay, bx, by, cx, cy] = p.map(L::to_array);
-    let [mut u, mut v, mut w] = uvw.map(L::to_array);
-    let e = |p: T, q: T, r: T, s: T| {
-        <T as Real>::from_f64(p.to_f64() * q.to_f64() - r.to_f64() * s.to_f64())
+fn exact_edges<S: SimdF32>(lanes: u32, p: [S; 6], uvw: [S; 3]) -> [S; 3] {
+    let [ax, ay, bx, by, cx, cy] = p.map(lanes4);
+    let [mut u, mut v, mut w] = uvw.map(lanes4);
+    let e = |p: f32, q: f32, r: f32, s: f32| {
+        (f64::from(p) * f64::from(q) - f64::from(r) * f64::from(s)) as f32
     };
     for i in 0..TRI4_LANES {
         if lanes & (1 << i) != 0 {
@@ -254,50 +396,25 @@ fn exact_edges<T: Real, L: Lanes4<T>>(lanes: u32, p: [L; 6], uvw: [L; 3]) -> (L,
             w[i] = e(bx[i], ay[i], by[i], ax[i]);
         }
     }
-    (L::load(&u), L::load(&v), L::load(&w))
+    [S::load(&u), S::load(&v), S::load(&w)]
 }
 
-/// Four lanes of `T` that [`Tri4`] computes in: a [`Scalar`] with loads, stores and a
-/// lane bit mask.
-trait Lanes4<T: Real>: Scalar<Elem = T> {
-    fn load(a: &[T; TRI4_LANES]) -> Self;
-    fn to_array(self) -> [T; TRI4_LANES];
-    fn bits(m: Self::Mask) -> u32;
+/// [`Family`]s of the types [`Tri4::intersect_watertight`] views as `f32`.
+struct Tri4Of;
+impl Family for Tri4Of {
+    type Of<T: Float> = Tri4<T>;
 }
-
-impl<T: Real> Lanes4<T> for P4<T> {
-    #[inline(always)]
-    fn load(a: &[T; TRI4_LANES]) -> Self {
-        Packet(GenericArray::from(*a))
-    }
-    #[inline(always)]
-    fn to_array(self) -> [T; TRI4_LANES] {
-        self.0.into()
-    }
-    #[inline(always)]
-    fn bits(m: Self::Mask) -> u32 {
-        let mut bits = 0;
-        for i in 0..TRI4_LANES {
-            bits |= (m.test(i) as u32) << i;
-        }
-        bits
-    }
+struct Tri4HitsOf;
+impl Family for Tri4HitsOf {
+    type Of<T: Float> = Tri4Hits<T>;
 }
-
-#[cfg(target_arch = "x86_64")]
-impl Lanes4<f32> for vecexpr::simd::F32x4 {
-    #[inline(always)]
-    fn load(a: &[f32; TRI4_LANES]) -> Self {
-        Self::from_array(*a)
-    }
-    #[inline(always)]
-    fn to_array(self) -> [f32; TRI4_LANES] {
-        vecexpr::simd::F32x4::to_array(self)
-    }
-    #[inline(always)]
-    fn bits(m: Self::Mask) -> u32 {
-        vecexpr::simd::SimdMask::bitmask(m)
-    }
+struct RayDataOf;
+impl Family for RayDataOf {
+    type Of<T: Float> = RayData<T>;
+}
+struct ScalarOf;
+impl Family for ScalarOf {
+    type Of<T: Float> = T;
 }
 
 #[cfg(test)]
@@ -359,7 +476,7 @@ mod tests {
     }
 
     /// Lane by lane, `Tri4` must return exactly what the scalar test returns.
-    fn check_tri4<T: Real>(tris: &[Triangle<T>], r: &RayData<T>, t_max: T) {
+    fn check_tri4<T: Float>(tris: &[Triangle<T>], r: &RayData<T>, t_max: T) {
         for chunk in tris.chunks(TRI4_LANES) {
             let lanes: Vec<(u32, Triangle<T>)> = chunk
                 .iter()
@@ -383,7 +500,7 @@ mod tests {
         }
     }
 
-    fn tri4_matches_scalar<T: Real>() {
+    fn tri4_matches_scalar<T: Float>() {
         let mut seed = 0x2545_f491_4f6c_dd1du64;
         let mut next = move |range: f64| {
             seed ^= seed << 13;

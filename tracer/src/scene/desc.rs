@@ -116,3 +116,41 @@ pub struct SceneDesc {
     /// Primitives in file order.
     pub shapes: Vec<ShapeDesc>,
 }
+
+impl MaterialDesc {
+    /// A matte material of the given colour (`Kd = 0.8`, so ambient 0.2).
+    pub fn diffuse(color: P3) -> Self {
+        Self {
+            color,
+            kd: 0.8,
+            ks: 0.0,
+            shine: 0.0,
+            t: 0.0,
+            ior: 1.0,
+        }
+    }
+
+    /// A mirror: `Kd = 0.3`, `Ks = 0.7`, highlight exponent 50.
+    pub fn mirror(color: P3) -> Self {
+        Self {
+            color,
+            kd: 0.3,
+            ks: 0.7,
+            shine: 50.0,
+            t: 0.0,
+            ior: 1.0,
+        }
+    }
+
+    /// Clear glass: `Kd = 0.05`, `Ks = 0.1`, `T = 0.85`, the given index of refraction.
+    pub fn glass(ior: f64) -> Self {
+        Self {
+            color: [1.0; 3],
+            kd: 0.05,
+            ks: 0.1,
+            shine: 200.0,
+            t: 0.85,
+            ior,
+        }
+    }
+}

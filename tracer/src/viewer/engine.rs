@@ -226,7 +226,7 @@ impl Engine {
 
 /// The scene in precision `T`, built from `desc` on first use (adding the build time to
 /// `build_ms`).
-fn built<'a, T: Real>(
+fn built<'a, T: crate::Float>(
     slot: &'a mut Option<Scene<T>>,
     desc: &SceneDesc,
     accel: &AccelOptions,
@@ -241,7 +241,7 @@ fn built<'a, T: Real>(
 }
 
 #[allow(clippy::too_many_arguments)]
-fn pass_in<T: Real>(
+fn pass_in<T: crate::Float>(
     pool: &rayon::ThreadPool,
     scene: &Scene<T>,
     camera: &CameraDesc,

@@ -1,7 +1,7 @@
 //! Closest hits of a packet of rays, one SIMD lane per ray, bit-identical to
 //! [`Geometry::intersect`] ray by ray.
 //!
-//! The packet walks the BVH together ([`crate::bvh::packet`]: the four-wide tree, handing
+//! The packet walks the BVH together ([`crate::bvh::packet_traverse`]: the four-wide tree, handing
 //! its rays over to their single-ray traversal of a subtree where at most two of them
 //! (four of sixteen) reach it, or the binary tree with `--binary-bvh`); in a leaf, spheres
 //! and triangles are tested against every ray of the packet at once with the formulas
@@ -31,138 +31,25 @@
 //! The any-hit query of a packet (shadow rays) uses the same kernels: a ray leaves the
 //! packet at its first hit, and the walk ends when every ray is blocked.
 
-use super::ray_data::{RayData, Shear};
+use super::ray_data::{PacketData, PacketShear, RayData, Shear, MAX_LANES};
+use super::sphere::sphere_packet;
 use super::storage::{make_ref, INDEX_MASK, PLANE, SPHERE, TAG_SHIFT, TRIANGLE};
-use super::triangle::TRI4_LANES;
-use super::{kinds, Best, Geometry, Sphere, Triangle, TriangleTest, NO_HIT};
-use crate::bvh::packet::{PacketRay, PacketVisitor};
+use super::triangle::{triangle_packet, TRI4_LANES};
+use super::{kinds, Best, Geometry, TriangleTest, NO_HIT};
+use crate::bvh::packet_traverse::{PacketRay, PacketVisitor};
 use crate::bvh::wide::Leaf;
 use crate::ray::{Hit, Ray};
 use core::cell::{Cell, UnsafeCell};
 use core::mem::MaybeUninit;
-use vecexpr::simd::{SimdF32, SimdMask};
+use vecexpr::simd::{Isa, Kernel, SimdF32, SimdMask};
 use vecexpr::Real;
-use vecexpr::{vec3, Expr, Mask, Vec3};
-
-/// The widest packet (AVX-512: sixteen `f32` lanes).
-pub const MAX_LANES: usize = 16;
-
-/// Per-lane ray values of the packet kernels (what [`RayData`] holds for one ray).
-struct PacketData<S: SimdF32> {
-    origin: Vec3<S>,
-    dir: Vec3<S>,
-    t_min: S,
-    dd: S,
-    inv_dd: S,
-    /// The watertight shear when every ray of the packet has the same axes.
-    shear: Option<PacketShear<S>>,
-}
-
-/// The watertight shear of a packet whose rays share their axes.
-///
-/// The origin is kept in the sheared axis order too, so a triangle test picks its
-/// vertex coordinates by axis from memory (scalars, before the splat) and never indexes
-/// a vector of registers by a run-time axis (which costs a round trip through memory).
-struct PacketShear<S: SimdF32> {
-    kx: usize,
-    ky: usize,
-    kz: usize,
-    sx: S,
-    sy: S,
-    sz: S,
-    /// The origins' `kx`, `ky`, `kz` coordinates.
-    o: [S; 3],
-}
-
-/// [`Sphere::intersect`] in every lane: the lanes with a hit in `(t_min, t_max]`, and
-/// their distances.
-#[inline(always)]
-fn sphere_packet<S: SimdF32>(s: &Sphere<f32>, r: &PacketData<S>, t_max: S) -> (S::Mask, S) {
-    let center = vec3(
-        S::splat(s.center[0]),
-        S::splat(s.center[1]),
-        S::splat(s.center[2]),
-    );
-    let f = (r.origin - center).eval();
-    let b = f.dot(&r.dir);
-    let r2 = S::splat(s.radius * s.radius);
-    let l = (f - (&r.dir).scale(b * r.inv_dd)).eval();
-    let disc = r2 - l.length_squared();
-    let real = disc.lt(S::zero()).not();
-    let c = f.length_squared() - r2;
-    let q = -b - (r.dd * disc).sqrt().copysign(b);
-    let (t0, t1) = (c / q, q * r.inv_dd);
-    let swap = t1.lt(t0);
-    let (near, far) = (S::select(swap, t1, t0), S::select(swap, t0, t1));
-    let near_ok = near.gt(r.t_min).and(near.le(t_max));
-    let far_ok = far.gt(r.t_min).and(far.le(t_max));
-    (real.and(near_ok.or(far_ok)), S::select(near_ok, near, far))
-}
-
-/// What [`triangle_packet`] found: hit lanes, lanes the single-ray test must decide
-/// (an edge function exactly zero), and the hits' `t`, `b1`, `b2`.
-struct TriangleLanes<S: SimdF32> {
-    hit: S::Mask,
-    exact: S::Mask,
-    t: S,
-    b1: S,
-    b2: S,
-}
-
-/// Vertex `v` relative to the origins, in the sheared axis order: lane by lane the
-/// single-ray test's `a[kx]`, `a[ky]`, `a[kz]`. (Functions, not closures, carry the
-/// lane operations throughout: a closure does not inherit the instruction set of the
-/// `#[target_feature]` entry point and may be left out of line with calls to the
-/// intrinsics inside.)
-#[inline(always)]
-fn rel<S: SimdF32>(v: &Vec3<f32>, s: &PacketShear<S>) -> [S; 3] {
-    [
-        S::splat(v[s.kx]) - s.o[0],
-        S::splat(v[s.ky]) - s.o[1],
-        S::splat(v[s.kz]) - s.o[2],
-    ]
-}
+use vecexpr::{vec3, Expr, Mask};
 
 /// The closest distances so far as lanes.
 #[inline(always)]
 fn best_t<S: SimdF32>(best: &[Best<f32>; MAX_LANES]) -> S {
     let t: [f32; MAX_LANES] = core::array::from_fn(|i| best[i].t);
     S::load(&t)
-}
-
-/// [`Triangle::intersect_watertight`] in every lane, for rays sharing their shear axes.
-#[inline(always)]
-fn triangle_packet<S: SimdF32>(
-    tri: &Triangle<f32>,
-    r: &PacketData<S>,
-    s: &PacketShear<S>,
-    t_max: S,
-) -> TriangleLanes<S> {
-    let (a, b, c) = (rel(&tri.v[0], s), rel(&tri.v[1], s), rel(&tri.v[2], s));
-    let (ax, ay) = (a[0] - s.sx * a[2], a[1] - s.sy * a[2]);
-    let (bx, by) = (b[0] - s.sx * b[2], b[1] - s.sy * b[2]);
-    let (cx, cy) = (c[0] - s.sx * c[2], c[1] - s.sy * c[2]);
-    let u = cx * by - cy * bx;
-    let v = ax * cy - ay * cx;
-    let w = bx * ay - by * ax;
-    let zero = S::zero();
-    let exact = u.eq_mask(zero).or(v.eq_mask(zero)).or(w.eq_mask(zero));
-    let some_neg = u.lt(zero).or(v.lt(zero)).or(w.lt(zero));
-    let some_pos = u.gt(zero).or(v.gt(zero)).or(w.gt(zero));
-    let det = u + v + w;
-    let inside = some_neg.and(some_pos).not().and(det.eq_mask(zero).not());
-    let (az, bz, cz) = (s.sz * a[2], s.sz * b[2], s.sz * c[2]);
-    let t_scaled = u * az + v * bz + w * cz;
-    let inv = det.recip();
-    let t = t_scaled * inv;
-    let accepted = t.gt(r.t_min).and(t.le(t_max));
-    TriangleLanes {
-        hit: inside.and(accepted).and(exact.not()),
-        exact,
-        t,
-        b1: v * inv,
-        b2: w * inv,
-    }
 }
 
 /// The lanes set in `bits`, lowest first.
@@ -573,7 +460,7 @@ impl Geometry<f32> {
     /// # Panics
     /// If `rays` or `out` is shorter than `S::LANES`, or `S::LANES > 16`.
     #[inline(always)]
-    pub fn intersect_packet<S: SimdF32>(
+    pub fn intersect_lanes<S: SimdF32>(
         &self,
         rays: &[Option<Ray<f32>>],
         out: &mut [Option<Hit<f32>>],
@@ -581,7 +468,7 @@ impl Geometry<f32> {
         self.intersect_packet_switch::<S>(rays, out, switch(S::LANES));
     }
 
-    /// [`Geometry::intersect_packet`], handing rays over to single-ray traversal where
+    /// [`Geometry::intersect_lanes`], handing rays over to single-ray traversal where
     /// at most `switch` of them are left ([`crate::bvh::Bvh::traverse4_packet`]).
     #[inline(always)]
     pub(crate) fn intersect_packet_switch<S: SimdF32>(
@@ -649,16 +536,16 @@ impl Geometry<f32> {
     /// [`Geometry::occluded`] returns for `rays[i]` (`false` where `rays[i]` is `None`).
     /// An any-hit query: a lane leaves the traversal at its first hit, and the traversal
     /// ends when every lane is blocked. Meant to be called inside
-    /// [`vecexpr::simd::Isa::dispatch`], as [`Geometry::intersect_packet`].
+    /// [`vecexpr::simd::Isa::dispatch`], as [`Geometry::intersect_lanes`].
     ///
     /// # Panics
     /// If `rays` or `out` is shorter than `S::LANES`, or `S::LANES > 16`.
     #[inline(always)]
-    pub fn occluded_packet<S: SimdF32>(&self, rays: &[Option<Ray<f32>>], out: &mut [bool]) {
+    pub fn occluded_lanes<S: SimdF32>(&self, rays: &[Option<Ray<f32>>], out: &mut [bool]) {
         self.occluded_packet_switch::<S>(rays, out, switch(S::LANES));
     }
 
-    /// [`Geometry::occluded_packet`] with the hand-over threshold `switch`.
+    /// [`Geometry::occluded_lanes`] with the hand-over threshold `switch`.
     #[inline(always)]
     pub(crate) fn occluded_packet_switch<S: SimdF32>(
         &self,
@@ -710,6 +597,112 @@ impl Geometry<f32> {
         }
         each_lane(done, |l| out[l] = true);
     }
+}
+
+impl Geometry<f32> {
+    /// The closest hits of the first [`Isa::lanes`] rays of `rays` (`None` lanes are
+    /// skipped), traced together as one packet by the kernel of `isa`; the rest of the
+    /// result is `None`. Lane `i` is bit for bit what [`Geometry::intersect`] returns for
+    /// `rays[i]`. The rays need not share an origin, but packets pay off when they are
+    /// coherent (neighbouring eye rays).
+    ///
+    /// # Panics
+    /// If the CPU lacks `isa` ([`Isa::is_available`]) or off x86-64.
+    pub fn intersect_packet(
+        &self,
+        isa: Isa,
+        rays: &[Option<Ray<f32>>; MAX_LANES],
+    ) -> [Option<Hit<f32>>; MAX_LANES] {
+        let mut hits = [None; MAX_LANES];
+        self.intersect_packet_into(isa, rays, &mut hits);
+        hits
+    }
+
+    /// [`Geometry::intersect_packet`] into `out`. (An out-parameter: the kilobyte of
+    /// hit records is written once, where the caller keeps it.)
+    #[inline]
+    pub(crate) fn intersect_packet_into(
+        &self,
+        isa: Isa,
+        rays: &[Option<Ray<f32>>; MAX_LANES],
+        out: &mut [Option<Hit<f32>>; MAX_LANES],
+    ) {
+        dispatch(
+            isa,
+            ClosestKernel {
+                geometry: self,
+                rays,
+                out,
+            },
+        );
+    }
+
+    /// Whether each of the first [`Isa::lanes`] rays of `rays` is blocked (`None` lanes
+    /// are `false`), traced together as one any-hit packet by the kernel of `isa`; the
+    /// rest of the result is `false`. Lane `i` is what [`Geometry::occluded`] returns for
+    /// `rays[i]`. Pays off for coherent rays, such as the shadow rays of neighbouring
+    /// eye hits toward one light.
+    ///
+    /// # Panics
+    /// If the CPU lacks `isa` ([`Isa::is_available`]) or off x86-64.
+    #[inline]
+    pub fn occluded_packet(
+        &self,
+        isa: Isa,
+        rays: &[Option<Ray<f32>>; MAX_LANES],
+    ) -> [bool; MAX_LANES] {
+        let mut out = [false; MAX_LANES];
+        dispatch(
+            isa,
+            AnyKernel {
+                geometry: self,
+                rays,
+                out: &mut out,
+            },
+        );
+        out
+    }
+}
+
+/// Runs [`Geometry::intersect_lanes`] on one packet.
+struct ClosestKernel<'a> {
+    geometry: &'a Geometry<f32>,
+    rays: &'a [Option<Ray<f32>>; MAX_LANES],
+    out: &'a mut [Option<Hit<f32>>; MAX_LANES],
+}
+
+impl Kernel for ClosestKernel<'_> {
+    type Output = ();
+    #[inline(always)]
+    fn run<S: SimdF32>(self) {
+        self.geometry.intersect_lanes::<S>(self.rays, self.out);
+    }
+}
+
+/// Runs [`Geometry::occluded_lanes`] on one packet.
+struct AnyKernel<'a> {
+    geometry: &'a Geometry<f32>,
+    rays: &'a [Option<Ray<f32>>; MAX_LANES],
+    out: &'a mut [bool; MAX_LANES],
+}
+
+impl Kernel for AnyKernel<'_> {
+    type Output = ();
+    #[inline(always)]
+    fn run<S: SimdF32>(self) {
+        self.geometry.occluded_lanes::<S>(self.rays, self.out);
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[inline]
+fn dispatch<K: Kernel>(isa: Isa, kernel: K) -> K::Output {
+    isa.dispatch(kernel)
+}
+
+#[cfg(not(target_arch = "x86_64"))]
+fn dispatch<K: Kernel>(_isa: Isa, _kernel: K) -> K::Output {
+    unreachable!("no SIMD instruction set off x86-64, so no packets");
 }
 
 /// The closest-hit query's side of [`crate::bvh::Bvh::traverse4_packet`].
@@ -817,7 +810,6 @@ pub(crate) const fn switch(lanes: usize) -> u32 {
 #[cfg(all(test, target_arch = "x86_64"))]
 mod tests {
     use super::*;
-    use crate::world::Scene;
     use vecexpr::simd::{Isa, Kernel};
     use vecexpr::Expr;
 
@@ -854,11 +846,13 @@ mod tests {
             "tree-s1.nff",
         ] {
             let desc = crate::scene::load(&dir.join(name)).unwrap();
-            let s: Scene<f32> = Scene::from_desc(&desc, &Default::default());
-            let g = &s.geometry;
+            let g = &Geometry::<f32>::build(&desc.shapes, &Default::default());
             let (w, h) = (23usize, 17usize);
-            let cam = s.camera_for(w as u32, h as u32);
-            let light = s.lights.first().map(|l| l.position);
+            let cam = crate::camera::Camera::<f32>::new(&desc.camera, w as u32, h as u32);
+            let light = desc.lights.first().map(|l| {
+                let p = l.position.map(|x| x as f32);
+                vec3(p[0], p[1], p[2])
+            });
             for isa in Isa::available() {
                 let n = isa.lanes();
                 for switch in [0, 1, 2, 4, n as u32] {

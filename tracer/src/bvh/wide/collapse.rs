@@ -1,0 +1,120 @@
+//! The collapse of the binary tree into four-wide nodes (see [`super`] for the rule).
+
+use super::{Node4, WIDTH};
+use crate::bvh::node::{Bounds3, Node};
+
+/// Collapses a depth-first binary tree (root at 0) into wide nodes, depth-first, root
+/// at 0. Returns the nodes and the depth in wide levels.
+pub fn collapse(bin: &[Node]) -> (Vec<Node4>, usize) {
+    let mut out = Vec::with_capacity(bin.len() / 2 + 1);
+    if bin.is_empty() {
+        return (out, 0);
+    }
+    let depth = emit(bin, 0, &mut out);
+    (out, depth)
+}
+
+/// Emits the wide node of binary node `at` and, recursively, its interior children.
+/// Returns the depth (levels) of the emitted subtree.
+fn emit(bin: &[Node], at: usize, out: &mut Vec<Node4>) -> usize {
+    let idx = out.len();
+    out.push(Node4::EMPTY);
+    let mut slots = [0usize; WIDTH];
+    let mut n;
+    let node = &bin[at];
+    if node.is_leaf() {
+        slots[0] = at;
+        n = 1;
+    } else {
+        // Start from the two children and open the interior child of largest surface
+        // area until four slots are filled or only leaves are left.
+        slots[0] = at + 1;
+        slots[1] = node.offset as usize;
+        n = 2;
+        while n < WIDTH {
+            let mut open: Option<(usize, f32)> = None;
+            for (i, &c) in slots[..n].iter().enumerate() {
+                if bin[c].is_leaf() {
+                    continue;
+                }
+                let b = &bin[c].bounds;
+                let area = Bounds3 { lo: b[0], hi: b[1] }.half_area();
+                if open.is_none_or(|(_, a)| area > a) {
+                    open = Some((i, area));
+                }
+            }
+            let Some((i, _)) = open else {
+                break;
+            };
+            let c = slots[i];
+            slots[i] = c + 1;
+            slots[n] = bin[c].offset as usize;
+            n += 1;
+        }
+    }
+    let mut wide = Node4::EMPTY;
+    let mut depth = 1;
+    for (lane, &c) in slots[..n].iter().enumerate() {
+        let b = &bin[c];
+        if b.is_leaf() {
+            wide.set(lane, &b.bounds, b.offset, b.count);
+        } else {
+            let child = out.len() as u32;
+            depth = depth.max(1 + emit(bin, c, out));
+            wide.set(lane, &b.bounds, child, 0);
+        }
+    }
+    out[idx] = wide;
+    depth
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::EMPTY_SLOT;
+    use crate::bvh::Bvh;
+
+    #[test]
+    fn collapse_keeps_every_leaf_once() {
+        use crate::bvh::{Bounds3, BuildConfig, BuildPrim};
+        let mut prims: Vec<BuildPrim> = (0..300)
+            .map(|i| {
+                let x = (i * 7919 % 300) as f32;
+                BuildPrim::new(
+                    Bounds3 {
+                        lo: [x, (i % 17) as f32, 0.0],
+                        hi: [x + 0.5, (i % 17) as f32 + 0.5, 1.0],
+                    },
+                    i,
+                )
+            })
+            .collect();
+        let cfg = BuildConfig {
+            max_leaf_size: 4,
+            parallel: false,
+            traversal_cost: 2.0,
+        };
+        let bvh = Bvh::build(&mut prims, &cfg);
+        let mut seen = vec![0u32; prims.len()];
+        for n in bvh.wide_nodes() {
+            for i in 0..super::WIDTH {
+                if n.count[i] > 0 {
+                    for r in n.child[i]..n.child[i] + n.count[i] {
+                        seen[r as usize] += 1;
+                    }
+                }
+            }
+        }
+        assert!(seen.iter().all(|&s| s == 1));
+        // Every wide level spans one or two binary levels.
+        assert!(bvh.wide_depth() * 2 >= bvh.depth() - 1);
+        assert!(bvh.wide_depth() <= bvh.depth());
+        // A node has fewer than four slots only when nothing is left to open: all its
+        // children are leaves.
+        for n in bvh.wide_nodes() {
+            let used = n.child.iter().filter(|&&c| c != EMPTY_SLOT).count();
+            if used < super::WIDTH {
+                assert!((0..used).all(|i| n.count[i] > 0), "{n:?}");
+            }
+        }
+    }
+}

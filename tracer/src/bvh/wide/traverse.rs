@@ -1,0 +1,160 @@
+//! The single-ray walk of the four-wide tree, ordered for closest hits and early-exit
+//! for any hits.
+
+use super::{Leaf, Node4, STACK_SIZE, WIDTH};
+use crate::bvh::traverse::TraversalRay;
+use crate::bvh::Bvh;
+use core::mem::MaybeUninit;
+use vecexpr::Real;
+
+/// A pending subtree: child (node index or first reference), count (0 for an interior
+/// node) and entry distance.
+#[derive(Clone, Copy)]
+struct Entry<T> {
+    child: u32,
+    count: u32,
+    t: T,
+}
+
+impl Bvh {
+    /// As [`Bvh::traverse`], over the four-wide tree: at each node the four child boxes
+    /// are tested in one packet, the hit children are visited nearest first and the
+    /// others pushed with their entry distances. With `ANY_HIT` the hit children are
+    /// visited in slot order instead: the walk stops at the first hit anyway, and
+    /// `t_max` never shrinks, so neither sorting nor the distance check on pop pays.
+    ///
+    /// `leaf(leaf, t_max)` is called with [`Leaf::Refs`] for a leaf of references and
+    /// with [`Leaf::Grouped`] for one rewritten by `Bvh::regroup_wide_leaves`.
+    #[inline(always)]
+    pub fn traverse4<T: Real, const ANY_HIT: bool>(
+        &self,
+        ray: &TraversalRay<T>,
+        t_max: T,
+        leaf: impl FnMut(Leaf<'_>, T) -> Option<T>,
+    ) -> bool {
+        self.traverse4_from::<T, ANY_HIT>(0, ray, t_max, leaf)
+    }
+
+    /// [`Bvh::traverse4`] over the subtree of wide node `start` only (0 is the root):
+    /// the packet traversal hands its rays over to it one by one where few rays of a
+    /// packet remain ([`Bvh::traverse4_packet`]).
+    #[inline(always)]
+    pub fn traverse4_from<T: Real, const ANY_HIT: bool>(
+        &self,
+        start: u32,
+        ray: &TraversalRay<T>,
+        mut t_max: T,
+        mut leaf: impl FnMut(Leaf<'_>, T) -> Option<T>,
+    ) -> bool {
+        let nodes: &[Node4] = &self.wide;
+        if nodes.is_empty() {
+            return false;
+        }
+        // Left uninitialised: only the entries below `sp` are ever read, and zeroing
+        // the whole array cost more than a typical query's box tests.
+        let mut stack = [const { MaybeUninit::<Entry<T>>::uninit() }; STACK_SIZE];
+        let mut sp = 0usize;
+        let mut found = false;
+        let mut at = start as usize;
+        'walk: loop {
+            let node = &nodes[at];
+            let (mut bits, tn) = ray.hit_box4_bits(node, t_max);
+            let mut entry = None;
+            if bits != 0 {
+                let first = bits.trailing_zeros() as usize;
+                bits &= bits - 1;
+                if bits == 0 {
+                    // One child hit (the common case): no ordering.
+                    entry = Some((node.child[first], node.count[first]));
+                } else if ANY_HIT {
+                    entry = Some((node.child[first], node.count[first]));
+                    while bits != 0 {
+                        let i = bits.trailing_zeros() as usize;
+                        bits &= bits - 1;
+                        stack[sp].write(Entry {
+                            child: node.child[i],
+                            count: node.count[i],
+                            t: tn[i],
+                        });
+                        sp += 1;
+                    }
+                } else if bits & (bits - 1) == 0 {
+                    // Two children hit: visit the nearer, push the farther.
+                    let second = bits.trailing_zeros() as usize;
+                    let (near, far) = if tn[second] < tn[first] {
+                        (second, first)
+                    } else {
+                        (first, second)
+                    };
+                    stack[sp].write(Entry {
+                        child: node.child[far],
+                        count: node.count[far],
+                        t: tn[far],
+                    });
+                    sp += 1;
+                    entry = Some((node.child[near], node.count[near]));
+                } else {
+                    // Hit children sorted by entry distance (insertion sort of 3 or 4),
+                    // pushed farthest first so that pops come nearest first.
+                    let mut order = [first; WIDTH];
+                    let mut k = 1;
+                    while bits != 0 {
+                        let i = bits.trailing_zeros() as usize;
+                        bits &= bits - 1;
+                        let mut j = k;
+                        while j > 0 && tn[i] < tn[order[j - 1]] {
+                            order[j] = order[j - 1];
+                            j -= 1;
+                        }
+                        order[j] = i;
+                        k += 1;
+                    }
+                    for &i in order[1..k].iter().rev() {
+                        stack[sp].write(Entry {
+                            child: node.child[i],
+                            count: node.count[i],
+                            t: tn[i],
+                        });
+                        sp += 1;
+                    }
+                    let i = order[0];
+                    entry = Some((node.child[i], node.count[i]));
+                }
+            }
+            loop {
+                match entry {
+                    Some((child, 0)) => {
+                        at = child as usize;
+                        continue 'walk;
+                    }
+                    Some((first, count)) => {
+                        let l = self.leaf(first, count);
+                        if let Some(t) = leaf(l, t_max) {
+                            found = true;
+                            if ANY_HIT {
+                                return true;
+                            }
+                            t_max = t;
+                        }
+                    }
+                    None => {}
+                }
+                // Pop the nearest pending entry that may still hold a closer hit.
+                entry = None;
+                while sp > 0 {
+                    sp -= 1;
+                    // SAFETY: every slot below `sp` was written by a push above, and
+                    // `Entry` is `Copy`, so reading it out leaves the slot valid.
+                    let e = unsafe { stack[sp].assume_init_read() };
+                    if ANY_HIT || e.t <= t_max * ray.slack {
+                        entry = Some((e.child, e.count));
+                        break;
+                    }
+                }
+                if entry.is_none() {
+                    return found;
+                }
+            }
+        }
+    }
+}

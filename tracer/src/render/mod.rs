@@ -1,0 +1,521 @@
+//! Rendering: from a [`Scene`] and [`Settings`] to an [`Image`].
+//!
+//! [`render_with_stats`] picks the renderer compiled for the scene's effects
+//! ([`crate::effects`]; `f32` only, see [`Float`]), starts the threads
+//! ([`crate::schedule`]) and runs it: the renderer traces the eye ray of every point of
+//! the image grid ([`Grid`]: pixel centres, SPD's pixel corners, or one supersample per
+//! pixel and pass) with `eye_radiance`, the one loop over the image, which traces
+//! single rays (`eye_sample`, then [`crate::shade`]) or, for `f32` scenes with packets
+//! on, blocks of rays ([`crate::packets`]). Supersampling adds the samples pass by pass
+//! and SPD mode averages the corners.
+//!
+//! Every pixel is computed by the same sequential code whatever thread runs it, and ray
+//! counts are summed as integers, so the image and the statistics are identical bit for
+//! bit for any thread count, any scheduler, with packets on or off, and for the
+//! specialised and the general renderer.
+
+use crate::camera::{Camera, Grid};
+use crate::effects::{self, has, EffectChoice, EffectFn, EffectSet, EffectsMode, SUPERSAMPLING};
+use crate::float::{Family, Float};
+use crate::image::Image;
+use crate::packets::{block_shape, eye_block, shadow_block, shadow_packets, MAX_LANES};
+use crate::schedule::{for_each_point, with_threads};
+use crate::settings::TraceLimits;
+use crate::shade::{shade_eye_lit, shade_fx, trace_fx};
+use crate::stats::RayCounts;
+use crate::world::Scene;
+use std::time::Instant;
+use vecexpr::simd::Isa;
+use vecexpr::{Expr, Vec3};
+
+pub use crate::settings::{Schedule, Scheduler, Settings};
+
+/// What a render produced besides the image.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct RenderStats {
+    /// Rays by kind.
+    pub rays: RayCounts,
+    /// Wall-clock tracing time in milliseconds.
+    pub trace_ms: f64,
+    /// The effects needed and the renderer that ran.
+    pub effects: EffectChoice,
+    /// CPU time of all threads while tracing, in milliseconds (0 where unavailable).
+    pub trace_cpu_ms: f64,
+    /// Tracing time in ticks of [`crate::cycles`] (TSC reference cycles where available).
+    pub trace_cycles: u64,
+}
+
+/// Renders `scene` with `settings`.
+pub fn render<T: Float>(scene: &Scene<T>, settings: &Settings) -> Image {
+    render_with_stats(scene, settings).0
+}
+
+/// Renders `scene` and reports ray counts and trace time.
+///
+/// # Panics
+/// If a thread pool with the requested number of threads cannot be created.
+pub fn render_with_stats<T: Float>(scene: &Scene<T>, settings: &Settings) -> (Image, RenderStats) {
+    render_choice(scene, settings, effect_choice(scene, settings))
+}
+
+/// The renderer `settings.effects` picks for `scene`: in `auto` mode the specialised one
+/// for the effects needed, where `T` has specialised renderers ([`specialised`]).
+fn effect_choice<T: Float>(scene: &Scene<T>, settings: &Settings) -> EffectChoice {
+    let required = EffectSet::required(scene, settings);
+    let mode = if specialised::<T>() {
+        settings.effects
+    } else {
+        EffectsMode::All
+    };
+    EffectChoice {
+        mode: settings.effects,
+        ..EffectChoice::new(mode, required)
+    }
+}
+
+/// Does precision `T` have the specialised renderers of [`effects::INSTANCES`]? Only
+/// `f32` ([`Float::AS_F32`]), the default: `f64`, the reference precision, always runs
+/// the general renderer, which halves the number of renderers compiled.
+pub fn specialised<T: Float>() -> bool {
+    T::AS_F32.is_some()
+}
+
+/// Renders `scene` with the renderer compiled for `renderer`: the instance of
+/// [`effects::INSTANCES`] chosen for it in `auto` mode, or the general one if it is not
+/// in the table or `T` has no specialised renderers ([`specialised`]).
+///
+/// # Panics
+/// If `renderer` lacks an effect the scene and settings need
+/// ([`EffectSet::required`]), or as [`render_with_stats`].
+pub fn render_with_effects<T: Float>(
+    scene: &Scene<T>,
+    settings: &Settings,
+    renderer: EffectSet,
+) -> (Image, RenderStats) {
+    let required = EffectSet::required(scene, settings);
+    assert!(
+        renderer.contains(required),
+        "the renderer for {:?} cannot render a scene that needs {:?}",
+        renderer.names(),
+        required.names()
+    );
+    let renderer = if specialised::<T>() && effects::INSTANCES.contains(&renderer.bits()) {
+        renderer
+    } else {
+        EffectSet::ALL
+    };
+    let choice = EffectChoice {
+        mode: settings.effects,
+        required,
+        renderer,
+        general: renderer.is_general(),
+    };
+    render_choice(scene, settings, choice)
+}
+
+/// One monomorphised renderer, called through [`effects::dispatch`].
+struct Renderer<'a, T: Float> {
+    scene: &'a Scene<T>,
+    settings: &'a Settings,
+}
+
+impl<T: Float> EffectFn<(Image, RayCounts)> for Renderer<'_, T> {
+    fn call<const FX: u32>(self) -> (Image, RayCounts) {
+        if self.settings.spd {
+            render_corners::<T, FX>(self.scene, self.settings)
+        } else {
+            render_grid::<T, FX>(self.scene, self.settings)
+        }
+    }
+}
+
+/// The `f32` renderers, dispatched on `set`. Not generic, so compiled once, in this
+/// crate.
+#[inline(never)]
+fn render_f32(scene: &Scene<f32>, settings: &Settings, set: EffectSet) -> (Image, RayCounts) {
+    effects::dispatch(set, Renderer { scene, settings })
+}
+
+fn render_choice<T: Float>(
+    scene: &Scene<T>,
+    settings: &Settings,
+    choice: EffectChoice,
+) -> (Image, RenderStats) {
+    let run = || {
+        let cpu = crate::stats::process_cpu_ms();
+        let start = Instant::now();
+        let start_cycles = crate::cycles::start();
+        let (image, rays) = match T::AS_F32 {
+            Some(p) => render_f32(T::to_f32::<SceneOf>(p, scene), settings, choice.renderer),
+            None => Renderer { scene, settings }.call::<{ effects::ALL }>(),
+        };
+        let trace_cycles = crate::cycles::since(start_cycles);
+        let trace_ms = start.elapsed().as_secs_f64() * 1e3;
+        let trace_cpu_ms = match (cpu, crate::stats::process_cpu_ms()) {
+            (Some(a), Some(b)) => b - a,
+            _ => 0.0,
+        };
+        (
+            image,
+            RenderStats {
+                rays,
+                trace_ms,
+                effects: choice,
+                trace_cpu_ms,
+                trace_cycles,
+            },
+        )
+    };
+    with_threads(settings.schedule, settings.threads, run)
+}
+
+/// A progress bar on standard error when `settings` asks for one; its length grows as
+/// [`eye_radiance`] adds rows.
+fn progress_bar(settings: &Settings) -> indicatif::ProgressBar {
+    if !settings.progress {
+        return indicatif::ProgressBar::hidden();
+    }
+    let bar =
+        indicatif::ProgressBar::with_draw_target(Some(0), indicatif::ProgressDrawTarget::stderr());
+    if let Ok(style) = indicatif::ProgressStyle::with_template(
+        "{bar:40} {pos}/{len} rows, {elapsed} elapsed, ETA {eta}",
+    ) {
+        bar.set_style(style);
+    }
+    bar
+}
+
+/// How [`eye_radiance`] runs: scheduler, threads, progress bar, and the packets'
+/// instruction set when they are on (with the proof that `T` is `f32`).
+struct Run<'a, T: Float> {
+    schedule: Schedule,
+    threads: Option<usize>,
+    bar: &'a indicatif::ProgressBar,
+    packets: Option<(T::F32, Isa)>,
+}
+
+/// The packets `settings` asks for, when `T` has them ([`Float::AS_F32`]).
+fn packets_for<T: Float>(settings: &Settings) -> Option<(T::F32, Isa)> {
+    T::AS_F32.zip(settings.packets.isa())
+}
+
+/// Radiance of the eye ray through image-plane point `(px, py)`.
+#[inline]
+fn eye_sample<T: Float, const FX: u32>(
+    scene: &Scene<T>,
+    cam: &Camera<T>,
+    px: T,
+    py: T,
+    limits: &TraceLimits<T>,
+    counts: &mut RayCounts,
+) -> Vec3<T> {
+    counts.eye += 1;
+    trace_fx::<T, FX>(scene, &cam.ray(px, py), 1, T::ONE, limits, counts)
+}
+
+/// The radiance of the eye ray through every point `(x, y)` of a `w` x `h` grid of
+/// `grid`'s points, row-major, and the rays traced: the one loop over the image. Single
+/// rays are traced point by point ([`eye_sample`]); packets ([`crate::packets`]) a block
+/// at a time ([`eye_packet`]). The values are the same either way, bit for bit.
+fn eye_radiance<T: Float, const FX: u32>(
+    scene: &Scene<T>,
+    cam: &Camera<T>,
+    grid: Grid,
+    size: (usize, usize),
+    limits: &TraceLimits<T>,
+    run: &Run<'_, T>,
+) -> (Vec<Vec3<T>>, RayCounts) {
+    if let Some((p, isa)) = run.packets {
+        let (bw, bh) = block_shape(isa);
+        let blocks = (size.0.div_ceil(bw), size.1.div_ceil(bh));
+        let scene = T::to_f32::<SceneOf>(p, scene);
+        let cam = T::to_f32::<CameraOf>(p, cam);
+        let limits = T::to_f32::<LimitsOf>(p, limits);
+        run.bar.inc_length(blocks.1 as u64);
+        let (blocks, counts) = for_each_point(
+            blocks,
+            run.schedule,
+            run.threads,
+            run.bar,
+            |bx, by, counts| {
+                let mut out = [Vec3::<f32>::zero(); MAX_LANES];
+                eye_packet::<FX>(
+                    scene,
+                    cam,
+                    isa,
+                    grid,
+                    size,
+                    (bx, by),
+                    limits,
+                    counts,
+                    &mut out,
+                );
+                out
+            },
+        );
+        let mut values = vec![Vec3::<f32>::zero(); size.0 * size.1];
+        scatter(&blocks, (bw, bh), size, &mut values);
+        return (T::from_f32::<PointsOf>(p, values), counts);
+    }
+    run.bar.inc_length(size.1 as u64);
+    for_each_point(size, run.schedule, run.threads, run.bar, |x, y, counts| {
+        let (px, py) = grid.point::<T>(x, y);
+        eye_sample::<T, FX>(scene, cam, px, py, limits, counts)
+    })
+}
+
+/// The radiance of each eye ray of one packet of block `(bx, by)` of a `w` x `h` grid,
+/// traced together ([`eye_block`]), with the shadow rays of their hits traced as one
+/// packet per light ([`shadow_block`]), and shaded one by one as [`eye_sample`] shades
+/// them, into `out[lane]` for each lane with a ray.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+fn eye_packet<const FX: u32>(
+    scene: &Scene<f32>,
+    cam: &Camera<f32>,
+    isa: Isa,
+    grid: Grid,
+    size: (usize, usize),
+    block: (usize, usize),
+    limits: &TraceLimits<f32>,
+    counts: &mut RayCounts,
+    out: &mut [Vec3<f32>; MAX_LANES],
+) {
+    let (rays, hits) = eye_block(scene, cam, isa, grid, size, block);
+    // The shadow rays of the eye hits, toward one light at a time, as packets too.
+    let blocked = if has(FX, effects::SHADOWS) && shadow_packets(scene) {
+        Some(shadow_block(scene, isa, limits, &rays, &hits))
+    } else {
+        None
+    };
+    for (l, (ray, hit)) in rays.iter().zip(&hits).enumerate() {
+        let Some(ray) = ray else { continue };
+        counts.eye += 1;
+        out[l] = match (hit, &blocked) {
+            (Some(hit), Some(b)) => shade_eye_lit::<f32, FX>(scene, ray, hit, limits, counts, b[l]),
+            (Some(hit), None) => shade_fx::<f32, FX>(scene, ray, hit, 1, 1.0, limits, counts),
+            (None, _) => scene.background,
+        };
+    }
+}
+
+/// Writes the per-block values of a `w` x `h` grid of blocks of shape `(bw, bh)` into
+/// `out`, row-major.
+fn scatter<V: Copy>(
+    blocks: &[[V; MAX_LANES]],
+    (bw, bh): (usize, usize),
+    (w, h): (usize, usize),
+    out: &mut [V],
+) {
+    let nbx = w.div_ceil(bw);
+    for (k, b) in blocks.iter().enumerate() {
+        let (bx, by) = (k % nbx, k / nbx);
+        for j in 0..bh {
+            for i in 0..bw {
+                let (x, y) = (bx * bw + i, by * bh + j);
+                if x < w && y < h {
+                    out[y * w + x] = b[j * bw + i];
+                }
+            }
+        }
+    }
+}
+
+fn to_rgb<T: Float>(c: &Vec3<T>) -> [f32; 3] {
+    [
+        c[0].to_f64() as f32,
+        c[1].to_f64() as f32,
+        c[2].to_f64() as f32,
+    ]
+}
+
+/// An `aa` x `aa` grid of rays per pixel, averaged: one pass of [`eye_radiance`] per
+/// sample position, added in the order [`accumulate_pass`] adds them.
+fn render_grid<T: Float, const FX: u32>(
+    scene: &Scene<T>,
+    settings: &Settings,
+) -> (Image, RayCounts) {
+    let (w, h) = settings.size(scene.camera.resolution);
+    let size = (w as usize, h as usize);
+    let cam = scene.camera_for(w, h);
+    let limits = settings.limits::<T>();
+    let a = settings.aa.max(1);
+    let bar = progress_bar(settings);
+    let mut image = Image::new(w, h);
+    let mut run = Run {
+        schedule: settings.schedule,
+        threads: settings.threads,
+        bar: &bar,
+        packets: packets_for::<T>(settings),
+    };
+    if a == 1 || !has(FX, SUPERSAMPLING) {
+        // One ray through the centre; adding it to zero, as the sum of samples below
+        // does, turns a -0 into +0.
+        let (values, counts) =
+            eye_radiance::<T, FX>(scene, &cam, Grid::Centers, size, &limits, &run);
+        bar.finish_and_clear();
+        let zero = Vec3::<T>::zero();
+        for (p, c) in image.pixels.iter_mut().zip(&values) {
+            *p = to_rgb(&(&zero + c).eval());
+        }
+        return (image, counts);
+    }
+    // Packets trace one ray per pixel centre only.
+    run.packets = None;
+    let norm = T::from_f64(1.0 / (a as f64 * a as f64));
+    let mut sums = vec![Vec3::<T>::zero(); size.0 * size.1];
+    let mut counts = RayCounts::default();
+    for k in 0..a * a {
+        let grid = Grid::Sample {
+            i: k % a,
+            j: k / a,
+            a,
+        };
+        let (values, c) = eye_radiance::<T, FX>(scene, &cam, grid, size, &limits, &run);
+        counts += c;
+        for (s, v) in sums.iter_mut().zip(&values) {
+            *s += v;
+        }
+    }
+    bar.finish_and_clear();
+    for (p, s) in image.pixels.iter_mut().zip(&sums) {
+        *p = to_rgb(&s.scale(norm).eval());
+    }
+    (image, counts)
+}
+
+/// SPD mode: one ray through every pixel corner, each pixel the mean of its four.
+fn render_corners<T: Float, const FX: u32>(
+    scene: &Scene<T>,
+    settings: &Settings,
+) -> (Image, RayCounts) {
+    let (w, h) = settings.size(scene.camera.resolution);
+    let cam = scene.camera_for(w, h);
+    let limits = settings.limits::<T>();
+    let (cw, ch) = (w as usize + 1, h as usize + 1);
+    let bar = progress_bar(settings);
+    let run = Run {
+        schedule: settings.schedule,
+        threads: settings.threads,
+        bar: &bar,
+        packets: packets_for::<T>(settings),
+    };
+    let (corners, counts) =
+        eye_radiance::<T, FX>(scene, &cam, Grid::Corners, (cw, ch), &limits, &run);
+    bar.finish_and_clear();
+    let quarter = T::from_f64(0.25);
+    let mut image = Image::new(w, h);
+    for y in 0..h as usize {
+        for x in 0..w as usize {
+            let i = y * cw + x;
+            let sum = &corners[i] + &corners[i + 1] + &corners[i + cw] + &corners[i + cw + 1];
+            image.pixels[y * w as usize + x] = to_rgb(&sum.scale(quarter).eval());
+        }
+    }
+    (image, counts)
+}
+
+/// Adds one supersample per pixel to `sums`, for interactive, progressive rendering.
+///
+/// `sums` holds `cam.width * cam.height` running sums, row-major from the top left. Pass
+/// `k` (for `k` in `0..aa * aa`) traces, for every pixel, the ray at grid position
+/// `(k % aa, k / aa)` of the `aa` x `aa` grid that [`render`] uses, through `cam` (which
+/// may differ from the scene's own camera), with the depth, threshold and effect mode of
+/// `settings` (its size, `aa` and threads are ignored). Running passes `0..aa * aa` in
+/// order adds the samples in the order [`render`] adds them, so scaling the sums by
+/// `1 / (aa * aa)` gives [`render`]'s image bit for bit (for a scene whose camera is
+/// `cam`). Returns the rays traced and the effect set of the renderer that ran (each
+/// pass traces one ray per pixel, so supersampling is never among the effects needed).
+///
+/// Rows run in parallel on the current rayon pool (use `ThreadPool::install` to choose
+/// the thread count); the sums do not depend on it.
+///
+/// # Panics
+/// If `sums.len()` is not `cam.width * cam.height`.
+pub fn accumulate_pass<T: Float>(
+    scene: &Scene<T>,
+    cam: &Camera<T>,
+    settings: &Settings,
+    aa: u32,
+    pass: u32,
+    sums: &mut [Vec3<T>],
+) -> (RayCounts, EffectChoice) {
+    let (w, h) = (cam.width as usize, cam.height as usize);
+    assert_eq!(sums.len(), w * h, "accumulate_pass: buffer size");
+    let one = Settings {
+        aa: 1,
+        ..settings.clone()
+    };
+    let choice = effect_choice(scene, &one);
+    let a = aa.max(1);
+    let pass = Pass {
+        scene,
+        cam,
+        limits: one.limits::<T>(),
+        // One sample per pixel is the pixel centre, which the packets trace.
+        grid: if a == 1 {
+            Grid::Centers
+        } else {
+            Grid::Sample {
+                i: pass % a,
+                j: (pass / a) % a,
+                a,
+            }
+        },
+        packets: packets_for::<T>(&one).filter(|_| a == 1),
+        sums,
+    };
+    let counts = match T::AS_F32 {
+        Some(_) => effects::dispatch(choice.renderer, pass),
+        None => pass.call::<{ effects::ALL }>(),
+    };
+    (counts, choice)
+}
+
+/// One pass of [`accumulate_pass`], monomorphised per effect set.
+struct Pass<'a, T: Float> {
+    scene: &'a Scene<T>,
+    cam: &'a Camera<T>,
+    limits: TraceLimits<T>,
+    grid: Grid,
+    packets: Option<(T::F32, Isa)>,
+    sums: &'a mut [Vec3<T>],
+}
+
+impl<T: Float> EffectFn<RayCounts> for Pass<'_, T> {
+    fn call<const FX: u32>(self) -> RayCounts {
+        let size = (self.cam.width as usize, self.cam.height as usize);
+        let bar = indicatif::ProgressBar::hidden();
+        // Rows in parallel on the current rayon pool.
+        let run = Run {
+            schedule: Schedule::default(),
+            threads: None,
+            bar: &bar,
+            packets: self.packets,
+        };
+        let (values, counts) =
+            eye_radiance::<T, FX>(self.scene, self.cam, self.grid, size, &self.limits, &run);
+        for (s, v) in self.sums.iter_mut().zip(&values) {
+            *s += v;
+        }
+        counts
+    }
+}
+
+/// [`Family`]s of the types the renderers view as `f32` when packets are on.
+struct SceneOf;
+impl Family for SceneOf {
+    type Of<T: Float> = Scene<T>;
+}
+struct CameraOf;
+impl Family for CameraOf {
+    type Of<T: Float> = Camera<T>;
+}
+struct LimitsOf;
+impl Family for LimitsOf {
+    type Of<T: Float> = TraceLimits<T>;
+}
+struct PointsOf;
+impl Family for PointsOf {
+    type Of<T: Float> = Vec<Vec3<T>>;
+}
