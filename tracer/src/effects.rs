@@ -72,7 +72,8 @@ pub const fn has(fx: u32, bit: u32) -> bool {
 }
 
 /// How the renderer is chosen.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum EffectsMode {
     /// The specialised renderer for the effects the scene and settings need.

@@ -25,9 +25,7 @@
 //! assert_eq!((image.width, image.height), (32, 32));
 //! ```
 
-pub mod accuracy;
 pub mod arith;
-pub mod bench;
 pub mod bvh;
 pub mod camera;
 pub mod cycles;
@@ -40,12 +38,11 @@ pub mod render;
 pub mod scene;
 pub mod shade;
 pub mod stats;
-pub mod viewer;
 pub mod world;
 
 pub use camera::Camera;
 pub use image::Image;
 pub use ray::{Hit, Ray};
-pub use render::{render, render_with_stats, Settings};
+pub use render::{render, render_with_progress, render_with_stats, Progress, Settings};
 pub use stats::RayCounts;
 pub use world::{Light, Material, Scene, SceneBuilder};

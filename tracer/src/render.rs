@@ -43,8 +43,6 @@ pub struct Settings {
     /// (w+1) x (h+1) corner rays), depth 5, no adaptive cutoff, transmitters spawn
     /// reflection rays.
     pub spd: bool,
-    /// Show a progress bar on a terminal.
-    pub progress: bool,
     /// The renderer specialised for the scene's effects, or the general one (the image
     /// is the same).
     pub effects: EffectsMode,
@@ -59,6 +57,7 @@ pub struct Settings {
 
 /// The parallel scheduler.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 pub enum Scheduler {
     /// rayon work stealing over rows.
     #[default]
@@ -98,7 +97,6 @@ impl Default for Settings {
             threshold: 0.0,
             threads: None,
             spd: false,
-            progress: false,
             effects: EffectsMode::Auto,
             schedule: Schedule::default(),
             arith: Arith::EXACT,
@@ -149,6 +147,25 @@ pub struct RenderStats {
     pub trace_cycles: u64,
 }
 
+/// Progress of a render, for a front end to show: [`start`](Progress::start) with the
+/// number of rows (of pixels, or of packet blocks) to trace, [`advance`](Progress::advance)
+/// from the worker threads as rows are done, [`finish`](Progress::finish) at the end.
+/// `()` shows nothing.
+pub trait Progress: Sync {
+    /// A pass over `rows` rows begins.
+    fn start(&self, rows: u64);
+    /// `rows` more rows are done.
+    fn advance(&self, rows: u64);
+    /// The pass is done.
+    fn finish(&self);
+}
+
+impl Progress for () {
+    fn start(&self, _: u64) {}
+    fn advance(&self, _: u64) {}
+    fn finish(&self) {}
+}
+
 /// Renders `scene` with `settings`.
 pub fn render<T: Real>(scene: &Scene<T>, settings: &Settings) -> Image {
     render_with_stats(scene, settings).0
@@ -159,7 +176,19 @@ pub fn render<T: Real>(scene: &Scene<T>, settings: &Settings) -> Image {
 /// # Panics
 /// If a thread pool with the requested number of threads cannot be created.
 pub fn render_with_stats<T: Real>(scene: &Scene<T>, settings: &Settings) -> (Image, RenderStats) {
-    render_choice(scene, settings, effect_choice(scene, settings))
+    render_with_progress(scene, settings, &())
+}
+
+/// [`render_with_stats`], telling `progress` how far it is.
+///
+/// # Panics
+/// As [`render_with_stats`].
+pub fn render_with_progress<T: Real>(
+    scene: &Scene<T>,
+    settings: &Settings,
+    progress: &dyn Progress,
+) -> (Image, RenderStats) {
+    render_choice(scene, settings, effect_choice(scene, settings), progress)
 }
 
 /// The renderer `settings.effects` picks for `scene`: in `auto` mode the specialised one
@@ -214,21 +243,22 @@ pub fn render_with_effects<T: Real>(
         renderer,
         general: renderer.is_general(),
     };
-    render_choice(scene, settings, choice)
+    render_choice(scene, settings, choice, &())
 }
 
 /// One monomorphised renderer, called through [`effects::dispatch`].
 struct Renderer<'a, T: Real> {
     scene: &'a Scene<T>,
     settings: &'a Settings,
+    progress: &'a dyn Progress,
 }
 
 impl<T: Real> EffectFn<(Image, RayCounts)> for Renderer<'_, T> {
     fn call<const FX: u32>(self) -> (Image, RayCounts) {
         if self.settings.spd {
-            render_corners::<T, FX>(self.scene, self.settings)
+            render_corners::<T, FX>(self.scene, self.settings, self.progress)
         } else {
-            render_grid::<T, FX>(self.scene, self.settings)
+            render_grid::<T, FX>(self.scene, self.settings, self.progress)
         }
     }
 }
@@ -236,14 +266,27 @@ impl<T: Real> EffectFn<(Image, RayCounts)> for Renderer<'_, T> {
 /// The `f32` renderers, dispatched on `set`. Not generic, so compiled once, in this
 /// crate.
 #[inline(never)]
-fn render_f32(scene: &Scene<f32>, settings: &Settings, set: EffectSet) -> (Image, RayCounts) {
-    effects::dispatch(set, Renderer { scene, settings })
+fn render_f32(
+    scene: &Scene<f32>,
+    settings: &Settings,
+    set: EffectSet,
+    progress: &dyn Progress,
+) -> (Image, RayCounts) {
+    effects::dispatch(
+        set,
+        Renderer {
+            scene,
+            settings,
+            progress,
+        },
+    )
 }
 
 fn render_choice<T: Real>(
     scene: &Scene<T>,
     settings: &Settings,
     choice: EffectChoice,
+    progress: &dyn Progress,
 ) -> (Image, RenderStats) {
     let run = || {
         let cpu = crate::stats::process_cpu_ms();
@@ -251,8 +294,13 @@ fn render_choice<T: Real>(
         let start_cycles = crate::cycles::start();
         let any: &dyn core::any::Any = scene;
         let (image, rays) = match any.downcast_ref::<Scene<f32>>() {
-            Some(scene) => render_f32(scene, settings, choice.renderer),
-            None => Renderer { scene, settings }.call::<{ effects::ALL }>(),
+            Some(scene) => render_f32(scene, settings, choice.renderer, progress),
+            None => Renderer {
+                scene,
+                settings,
+                progress,
+            }
+            .call::<{ effects::ALL }>(),
         };
         let trace_cycles = crate::cycles::since(start_cycles);
         let trace_ms = start.elapsed().as_secs_f64() * 1e3;
@@ -282,22 +330,6 @@ fn render_choice<T: Real>(
         }
         _ => run(),
     }
-}
-
-fn progress_bar(settings: &Settings, rows: u64) -> indicatif::ProgressBar {
-    if !settings.progress {
-        return indicatif::ProgressBar::hidden();
-    }
-    let bar = indicatif::ProgressBar::with_draw_target(
-        Some(rows),
-        indicatif::ProgressDrawTarget::stderr(),
-    );
-    if let Ok(style) = indicatif::ProgressStyle::with_template(
-        "{bar:40} {pos}/{len} rows, {elapsed} elapsed, ETA {eta}",
-    ) {
-        bar.set_style(style);
-    }
-    bar
 }
 
 /// Radiance of the eye ray through image-plane point `(px, py)`.
@@ -396,7 +428,7 @@ fn for_each_point<V, F>(
     w: usize,
     h: usize,
     settings: &Settings,
-    bar: &indicatif::ProgressBar,
+    progress: &dyn Progress,
     f: F,
 ) -> (Vec<V>, RayCounts)
 where
@@ -420,7 +452,7 @@ where
                 for (x, v) in row.iter_mut().enumerate() {
                     *v = f(x, y, &mut counts);
                 }
-                bar.inc(1);
+                progress.advance(1);
                 counts
             })
             .reduce(RayCounts::default, |a, b| a + b),
@@ -439,7 +471,7 @@ where
                                 for (x, v) in row.iter_mut().enumerate() {
                                     *v = f(x, y, &mut counts);
                                 }
-                                bar.inc(1);
+                                progress.advance(1);
                             }
                             counts
                         })
@@ -500,7 +532,7 @@ where
                     }
                 }
             }
-            bar.inc(h as u64);
+            progress.advance(h as u64);
             counts
         }
     };
@@ -511,6 +543,7 @@ where
 fn render_grid<T: Real, const FX: u32>(
     scene: &Scene<T>,
     settings: &Settings,
+    progress: &dyn Progress,
 ) -> (Image, RayCounts) {
     let (w, h) = settings.size(scene);
     let cam = scene.camera_for(w, h);
@@ -525,8 +558,8 @@ fn render_grid<T: Real, const FX: u32>(
         let size = (w as usize, h as usize);
         let (bw, bh) = block_shape(isa);
         let (nbx, nby) = (size.0.div_ceil(bw), size.1.div_ceil(bh));
-        let bar = progress_bar(settings, nby as u64);
-        let (blocks, counts) = for_each_point(nbx, nby, settings, &bar, |bx, by, counts| {
+        progress.start(nby as u64);
+        let (blocks, counts) = for_each_point(nbx, nby, settings, progress, |bx, by, counts| {
             let mut out = [[0.0f32; 3]; MAX_LANES];
             let grid = EyeGrid::Centers;
             eye_packet::<T, FX>(
@@ -550,13 +583,17 @@ fn render_grid<T: Real, const FX: u32>(
             );
             out
         });
-        bar.finish_and_clear();
+        progress.finish();
         scatter(&blocks, isa, size, &mut image.pixels);
         return (image, counts);
     }
-    let bar = progress_bar(settings, h as u64);
-    let (pixels, counts) =
-        for_each_point(w as usize, h as usize, settings, &bar, |x, y, counts| {
+    progress.start(h as u64);
+    let (pixels, counts) = for_each_point(
+        w as usize,
+        h as usize,
+        settings,
+        progress,
+        |x, y, counts| {
             let mut sum = vec3(T::ZERO, T::ZERO, T::ZERO);
             if !has(FX, SUPERSAMPLING) {
                 // One ray through the centre: the a = 1 case below without its exact
@@ -576,8 +613,9 @@ fn render_grid<T: Real, const FX: u32>(
                 }
             }
             to_rgb(&sum.scale(norm).eval())
-        });
-    bar.finish_and_clear();
+        },
+    );
+    progress.finish();
     image.pixels = pixels;
     (image, counts)
 }
@@ -586,6 +624,7 @@ fn render_grid<T: Real, const FX: u32>(
 fn render_corners<T: Real, const FX: u32>(
     scene: &Scene<T>,
     settings: &Settings,
+    progress: &dyn Progress,
 ) -> (Image, RayCounts) {
     let (w, h) = settings.size(scene);
     let cam = scene.camera_for(w, h);
@@ -595,34 +634,35 @@ fn render_corners<T: Real, const FX: u32>(
         Some(isa) => {
             let (bw, bh) = block_shape(isa);
             let (nbx, nby) = (cw.div_ceil(bw), ch.div_ceil(bh));
-            let bar = progress_bar(settings, nby as u64);
-            let (blocks, counts) = for_each_point(nbx, nby, settings, &bar, |bx, by, counts| {
-                let mut out = [Vec3::<T>::zero(); MAX_LANES];
-                let grid = EyeGrid::Corners;
-                let size = (cw, ch);
-                eye_packet::<T, FX>(
-                    scene,
-                    &cam,
-                    isa,
-                    grid,
-                    size,
-                    (bx, by),
-                    &limits,
-                    counts,
-                    |l, c| {
-                        out[l] = c;
-                    },
-                );
-                out
-            });
-            bar.finish_and_clear();
+            progress.start(nby as u64);
+            let (blocks, counts) =
+                for_each_point(nbx, nby, settings, progress, |bx, by, counts| {
+                    let mut out = [Vec3::<T>::zero(); MAX_LANES];
+                    let grid = EyeGrid::Corners;
+                    let size = (cw, ch);
+                    eye_packet::<T, FX>(
+                        scene,
+                        &cam,
+                        isa,
+                        grid,
+                        size,
+                        (bx, by),
+                        &limits,
+                        counts,
+                        |l, c| {
+                            out[l] = c;
+                        },
+                    );
+                    out
+                });
+            progress.finish();
             let mut corners = vec![Vec3::<T>::zero(); cw * ch];
             scatter(&blocks, isa, (cw, ch), &mut corners);
             (corners, counts)
         }
         None => {
-            let bar = progress_bar(settings, ch as u64);
-            let done = for_each_point(cw, ch, settings, &bar, |x, y, counts| {
+            progress.start(ch as u64);
+            let done = for_each_point(cw, ch, settings, progress, |x, y, counts| {
                 eye_sample::<T, FX>(
                     scene,
                     &cam,
@@ -632,7 +672,7 @@ fn render_corners<T: Real, const FX: u32>(
                     counts,
                 )
             });
-            bar.finish_and_clear();
+            progress.finish();
             done
         }
     };

@@ -1,0 +1,36 @@
+//! The progress bar of `tracer render`: [`tracer::render::Progress`] drawn by indicatif on
+//! the terminal's standard error (hidden when it is not a terminal).
+
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use tracer::render::Progress;
+
+/// A progress bar with ETA.
+pub struct Bar(ProgressBar);
+
+impl Bar {
+    /// A bar on standard error; indicatif draws nothing when it is not a terminal.
+    pub fn stderr() -> Self {
+        let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
+        if let Ok(style) =
+            ProgressStyle::with_template("{bar:40} {pos}/{len} rows, {elapsed} elapsed, ETA {eta}")
+        {
+            bar.set_style(style);
+        }
+        Self(bar)
+    }
+}
+
+impl Progress for Bar {
+    fn start(&self, rows: u64) {
+        self.0.reset();
+        self.0.set_length(rows);
+    }
+
+    fn advance(&self, rows: u64) {
+        self.0.inc(rows);
+    }
+
+    fn finish(&self) {
+        self.0.finish_and_clear();
+    }
+}
