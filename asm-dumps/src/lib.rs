@@ -12,8 +12,8 @@
 //! [`bounds`] reads the checked-in per-kernel limits; [`generate`] runs the compiler;
 //! [`dump`] writes and reads the checked-in dump files.
 //! The integration test `tests/asm_check.rs` ties them together;
-//! `tests/intrinsic_calls.rs` checks the whole `vecexpr` and `tracer` libraries for
-//! intrinsics called out of line ([`asm::intrinsic_calls`]).
+//! `tests/intrinsic_calls.rs` checks the whole `vecexpr`, `tracer` and `tracer-cli`
+//! libraries for intrinsics called out of line ([`asm::intrinsic_calls`]).
 
 pub mod asm;
 pub mod bounds;

@@ -16,10 +16,9 @@
 
 use std::path::PathBuf;
 use std::process::ExitCode;
-use tracer::bench::median;
 use tracer::bvh::build::TRAVERSAL_COST;
 use tracer::geometry::{AccelOptions, Geometry};
-use tracer::stats::process_cpu_ms;
+use tracer::stats::{median, process_cpu_ms};
 
 fn main() -> ExitCode {
     let mut runs = 5usize;
@@ -104,8 +103,8 @@ fn main() -> ExitCode {
         });
         let Some(g) = last else { continue };
         let s = g.stats();
-        let (a, b) = (median(&mut t_with), median(&mut t_without));
-        let (ca, cb) = (median(&mut c_with), median(&mut c_without));
+        let (a, b) = (median(&t_with), median(&t_without));
+        let (ca, cb) = (median(&c_with), median(&c_without));
         let (wide, wide_depth, sah) = g.bvh().map_or((0, 0, 0.0), |b| {
             (
                 b.wide_nodes().len(),

@@ -18,6 +18,7 @@ use std::time::Instant;
 use tracer::effects::{EffectSet, EffectsMode};
 use tracer::geometry::AccelOptions;
 use tracer::render::{render_with_stats, Settings};
+use tracer::stats::median;
 use tracer::{Image, RayCounts, Scene};
 
 /// The SPD scenes at their published sizes (size 1 is the default of the last four).
@@ -95,16 +96,6 @@ fn cpu_ms() -> Option<f64> {
     Some(ns as f64 * 1e-6)
 }
 
-fn median(v: &mut [f64]) -> f64 {
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        0.5 * (v[n / 2 - 1] + v[n / 2])
-    }
-}
-
 /// Are the images equal bit for bit?
 fn same_bits(a: &Image, b: &Image) -> bool {
     (a.width, a.height) == (b.width, b.height)
@@ -166,8 +157,8 @@ fn bench(path: &Path, o: &Options) -> Result<String, String> {
         }
     }
     let name = path.file_stem().unwrap_or_default().to_string_lossy();
-    let [wg, ws] = wall.map(|mut v| median(&mut v));
-    let [cg, cs] = cpu.map(|mut v| median(&mut v));
+    let [wg, ws] = wall.map(|v| median(&v));
+    let [cg, cs] = cpu.map(|v| median(&v));
     Ok(format!(
         "| {name} | {} | {} | {wg:.1} | {ws:.1} | {:.2} | {cg:.1} | {cs:.1} | {:.2} |",
         chosen.names().join(" "),

@@ -20,6 +20,7 @@ use std::process::ExitCode;
 use std::time::Instant;
 use tracer::geometry::AccelOptions;
 use tracer::packets::EyePackets;
+use tracer::stats::median;
 use tracer::{Ray, Scene};
 use vecexpr::simd::Isa;
 
@@ -113,11 +114,6 @@ fn cast_single(scene: &Scene<f32>, rays: &[Ray<f32>]) -> usize {
         .with_min_len(256)
         .filter(|r| scene.intersect(r).is_some())
         .count()
-}
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
 }
 
 fn main() -> ExitCode {
@@ -220,7 +216,7 @@ fn main() -> ExitCode {
                 }
             });
         }
-        let [single, bin, wid] = times.map(median);
+        let [single, bin, wid] = times.map(|v| median(&v));
         let name = std::path::Path::new(path)
             .file_name()
             .map_or(path.clone(), |f| f.to_string_lossy().into_owned());

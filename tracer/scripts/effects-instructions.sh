@@ -8,7 +8,7 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 scenes=$root/../shared/scenes/spd
 if [ -d "${1:-}" ]; then scenes=$1; shift; fi
-cargo build --release -q -p tracer --manifest-path "$root/Cargo.toml"
+cargo build --release -q -p tracer-cli --manifest-path "$root/Cargo.toml"
 bin=${CARGO_TARGET_DIR:-$root/target}/release/tracer
 out=$(mktemp -d)
 ir() { # SCENE MODE

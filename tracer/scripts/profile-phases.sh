@@ -12,7 +12,7 @@ root=$(cd "$(dirname "$0")/../.." && pwd)
 scene=${1:?usage: profile-phases.sh SCENE.nff [all|auto]...}
 shift
 modes=${*:-all auto}
-cargo build --release -q -p tracer --manifest-path "$root/Cargo.toml"
+cargo build --release -q -p tracer-cli --manifest-path "$root/Cargo.toml"
 bin=${CARGO_TARGET_DIR:-$root/target}/release/tracer
 out=$(mktemp -d)
 for m in $modes; do

@@ -16,7 +16,8 @@ runs=${1:-3}
 threads=${2:-$(nproc)}
 cd "$root"
 if [[ -z ${TRACER:-} || -z ${BVH_BUILD:-} ]]; then
-  cargo build --release -q -p tracer --bin tracer --example bvh_build
+  cargo build --release -q -p tracer-cli --bin tracer
+  cargo build --release -q -p tracer --example bvh_build
 fi
 T=${TRACER:-$root/target/release/tracer}
 B=${BVH_BUILD:-$root/target/release/examples/bvh_build}

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Headless test of the viewer's window: starts a virtual X server (Xvfb, installed with
 # apt-get if missing) and runs the windowed viewer test under it, which then must not
-# skip: the viewer plays tracer/tests/data/viewer-path.txt on balls-s1 in a real window,
+# skip: the viewer plays tracer/cli/tests/data/viewer-path.txt on balls-s1 in a real window,
 # lets the last view converge, writes a screenshot, and the test compares it with the
 # offline render of the same camera.
 # Usage: tracer/scripts/viewer-test.sh   (as root where Xvfb must be installed)

@@ -25,9 +25,7 @@
 //! assert_eq!((image.width, image.height), (32, 32));
 //! ```
 
-pub mod accuracy;
 pub mod arith;
-pub mod bench;
 pub mod bvh;
 pub mod camera;
 pub mod cycles;
@@ -43,14 +41,14 @@ pub mod schedule;
 pub mod settings;
 pub mod shade;
 pub mod stats;
-pub mod viewer;
 pub mod world;
 
 pub use camera::Camera;
 pub use float::Float;
 pub use image::Image;
 pub use ray::{Hit, Ray};
-pub use render::{render, render_with_stats};
+pub use render::{render, render_with_progress, render_with_stats};
+pub use schedule::Progress;
 pub use settings::Settings;
 pub use stats::RayCounts;
 pub use world::{Light, Material, Scene, SceneBuilder};

@@ -1,6 +1,7 @@
 //! All the threading of the tracer: the three schedulers that spread a grid of work over
-//! threads ([`for_each_point`]), the thread pool of a render ([`with_threads`]) and a
-//! parallel loop over a slice ([`for_each_mut`]).
+//! threads ([`for_each_point`]), the thread pool of a render ([`with_threads`]), a
+//! parallel loop over a slice ([`for_each_mut`]) and the [`Progress`] the workers report
+//! to.
 //!
 //! The schedulers ([`Scheduler`]): rayon's work stealing over rows (like TBB), a static
 //! partition into one contiguous block of rows per thread over `std::thread::scope` (like
@@ -14,19 +15,39 @@ use crate::stats::RayCounts;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
+/// Progress of a render, for a front end to show. A render calls
+/// [`add_rows`](Progress::add_rows) as each pass over the image begins (a supersampled
+/// render makes several passes; packet passes count rows of blocks),
+/// [`advance`](Progress::advance) from the worker threads as rows are done, and
+/// [`finish`](Progress::finish) at the end. `()` shows nothing.
+pub trait Progress: Sync {
+    /// `rows` more rows are to be traced.
+    fn add_rows(&self, rows: u64);
+    /// `rows` more rows are done.
+    fn advance(&self, rows: u64);
+    /// The render is done.
+    fn finish(&self);
+}
+
+impl Progress for () {
+    fn add_rows(&self, _: u64) {}
+    fn advance(&self, _: u64) {}
+    fn finish(&self) {}
+}
+
 /// The tiles one thread computed (index, values in row-major order) and its ray counts.
 type TilesDone<V> = (Vec<(usize, Vec<V>)>, RayCounts);
 
 /// Computes `f(x, y, counts)` for every point of a `w` x `h` grid with `schedule` on
 /// `threads` threads (`None`: all cores; rayon uses the current pool), returning the
-/// values in row-major order and the summed ray counts, and advancing `bar` by one per
-/// row. The value of a point does not depend on the scheduler or the thread that
+/// values in row-major order and the summed ray counts, and advancing `progress` by one
+/// per row. The value of a point does not depend on the scheduler or the thread that
 /// computes it.
 pub fn for_each_point<V, F>(
     (w, h): (usize, usize),
     schedule: Schedule,
     threads: Option<usize>,
-    bar: &indicatif::ProgressBar,
+    progress: &dyn Progress,
     f: F,
 ) -> (Vec<V>, RayCounts)
 where
@@ -47,7 +68,7 @@ where
                 for (x, v) in row.iter_mut().enumerate() {
                     *v = f(x, y, &mut counts);
                 }
-                bar.inc(1);
+                progress.advance(1);
                 counts
             })
             .reduce(RayCounts::default, |a, b| a + b),
@@ -66,7 +87,7 @@ where
                                 for (x, v) in row.iter_mut().enumerate() {
                                     *v = f(x, y, &mut counts);
                                 }
-                                bar.inc(1);
+                                progress.advance(1);
                             }
                             counts
                         })
@@ -127,7 +148,7 @@ where
                     }
                 }
             }
-            bar.inc(h as u64);
+            progress.advance(h as u64);
             counts
         }
     };

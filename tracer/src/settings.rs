@@ -30,8 +30,6 @@ pub struct Settings {
     /// (w+1) x (h+1) corner rays), depth 5, no adaptive cutoff, transmitters spawn
     /// reflection rays.
     pub spd: bool,
-    /// Show a progress bar on a terminal.
-    pub progress: bool,
     /// The renderer specialised for the scene's effects, or the general one (the image
     /// is the same).
     pub effects: EffectsMode,
@@ -46,6 +44,7 @@ pub struct Settings {
 
 /// The parallel scheduler.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 pub enum Scheduler {
     /// rayon work stealing over rows.
     #[default]
@@ -85,7 +84,6 @@ impl Default for Settings {
             threshold: 0.0,
             threads: None,
             spd: false,
-            progress: false,
             effects: EffectsMode::Auto,
             schedule: Schedule::default(),
             arith: Arith::EXACT,
@@ -203,7 +201,8 @@ impl Packets {
 }
 
 /// How the renderer is chosen.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum EffectsMode {
     /// The specialised renderer for the effects the scene and settings need.

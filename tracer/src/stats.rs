@@ -1,4 +1,4 @@
-//! Ray counters and the `--stats` JSON report.
+//! Ray counters, timers and the `--stats` JSON report.
 
 use crate::cycles;
 use serde::Serialize;
@@ -135,5 +135,24 @@ pub fn process_cpu_ms() -> Option<f64> {
     #[cfg(not(unix))]
     {
         None
+    }
+}
+
+/// The median of `xs` (the mean of the middle two for an even count; 0 for none), the
+/// statistic every timing of the tracer's front ends and examples reports.
+///
+/// ```
+/// use tracer::stats::median;
+/// assert_eq!(median(&[3.0, 1.0, 2.0]), 2.0);
+/// assert_eq!(median(&[4.0, 1.0, 3.0, 2.0]), 2.5);
+/// assert_eq!(median(&[]), 0.0);
+/// ```
+pub fn median(xs: &[f64]) -> f64 {
+    let mut v = xs.to_vec();
+    v.sort_by(f64::total_cmp);
+    match v.len() {
+        0 => 0.0,
+        n if n % 2 == 1 => v[n / 2],
+        n => 0.5 * (v[n / 2 - 1] + v[n / 2]),
     }
 }

@@ -3,7 +3,6 @@
 //! same ray counts from every renderer that can draw it as from the general one.
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 use tracer::effects::{self, EffectSet, EffectsMode};
 use tracer::geometry::AccelOptions;
 use tracer::render::{render_with_effects, render_with_stats, RenderStats, Settings};
@@ -253,59 +252,4 @@ fn a_renderer_without_a_needed_effect_is_refused() {
     let scene = load("balls-s1.nff");
     let set = EffectSet::from_bits(effects::MATTE_TRIANGLES);
     let _ = render_with_effects(&scene, &small(8, 8), set);
-}
-
-#[test]
-fn cli_reports_the_effect_set() {
-    let d = std::env::temp_dir().join(format!("tracer-effects-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    let mut images = Vec::new();
-    for mode in ["auto", "all"] {
-        let out = d.join(format!("{mode}.pfm"));
-        let stats = d.join(format!("{mode}.json"));
-        let st = Command::new(env!("CARGO_BIN_EXE_tracer"))
-            .arg("render")
-            .arg(scenes_dir().join("tetra-s1.nff"))
-            .arg("-o")
-            .arg(&out)
-            .args([
-                "--width",
-                "24",
-                "--height",
-                "24",
-                "--effects",
-                mode,
-                "--stats",
-            ])
-            .arg(&stats)
-            .output()
-            .unwrap();
-        assert!(
-            st.status.success(),
-            "{}",
-            String::from_utf8_lossy(&st.stderr)
-        );
-        let json: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
-        let fx = &json["effects"];
-        assert_eq!(fx["mode"], mode);
-        assert_eq!(fx["required"], serde_json::json!(["shadows", "triangles"]));
-        assert_eq!(fx["general"], mode == "all");
-        let renderer = fx["renderer"].as_array().unwrap();
-        assert_eq!(renderer.len(), if mode == "all" { 10 } else { 2 });
-        assert_eq!(json["settings"]["effects"], mode);
-        images.push(std::fs::read(&out).unwrap());
-    }
-    assert_eq!(images[0], images[1], "auto and all write the same file");
-    let st = Command::new(env!("CARGO_BIN_EXE_tracer"))
-        .arg("render")
-        .arg(scenes_dir().join("tetra-s1.nff"))
-        .arg("-o")
-        .arg(d.join("x.png"))
-        .args(["--effects", "some"])
-        .output()
-        .unwrap();
-    assert_eq!(st.status.code(), Some(2));
-    assert!(!d.join("x.png").exists());
-    let _ = std::fs::remove_dir_all(&d);
 }

@@ -1,8 +1,9 @@
 //! End-to-end rendering tests: shipped scenes render without NaN, images do not depend
 //! on the thread count, small golden images guard regressions, and each shading term
-//! matches its analytic value.
+//! matches its analytic value; the approximate arithmetic's integer powers.
 
 use std::path::{Path, PathBuf};
+use tracer::arith::{pow_int, Arith};
 use tracer::geometry::AccelOptions;
 use tracer::render::{render_with_stats, Settings};
 use tracer::scene::desc::MaterialDesc;
@@ -299,4 +300,26 @@ fn shadow_ray_blocks_the_light() {
         ..tracer::Ray::new(vecexpr::vec3(3.0, 0.0, 1e-6), vecexpr::vec3(0.0, 0.0, 1.0))
     };
     assert!(!scene.occluded(&beside));
+}
+
+#[test]
+fn integer_powers() {
+    for n in 0..40u32 {
+        for x in [0.0f64, 0.3, 0.99, 1.0, 1.7] {
+            let exact = x.powi(n as i32);
+            assert!(
+                (pow_int(x, n) - exact).abs() <= 1e-12 * exact.max(1.0),
+                "{x}^{n}"
+            );
+        }
+    }
+    let ar = Arith {
+        int_pow: true,
+        ..Arith::EXACT
+    };
+    // The exponent is rounded to the nearest integer.
+    assert_eq!(ar.pow(0.5f32, 3.0827), 0.125);
+    assert_eq!(Arith::EXACT.pow(0.5f32, 3.0827), 0.5f32.powf(3.0827));
+    assert_eq!(ar.label(), "int-pow");
+    assert_eq!(Arith::default().label(), "exact");
 }

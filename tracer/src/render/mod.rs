@@ -19,7 +19,7 @@ use crate::effects::{self, has, EffectChoice, EffectFn, EffectSet, EffectsMode, 
 use crate::float::{Family, Float};
 use crate::image::Image;
 use crate::packets::{block_shape, eye_block, shadow_block, shadow_packets, MAX_LANES};
-use crate::schedule::{for_each_point, with_threads};
+use crate::schedule::{for_each_point, with_threads, Progress};
 use crate::settings::TraceLimits;
 use crate::shade::{shade_eye_lit, shade_fx, trace_fx};
 use crate::stats::RayCounts;
@@ -55,7 +55,19 @@ pub fn render<T: Float>(scene: &Scene<T>, settings: &Settings) -> Image {
 /// # Panics
 /// If a thread pool with the requested number of threads cannot be created.
 pub fn render_with_stats<T: Float>(scene: &Scene<T>, settings: &Settings) -> (Image, RenderStats) {
-    render_choice(scene, settings, effect_choice(scene, settings))
+    render_with_progress(scene, settings, &())
+}
+
+/// [`render_with_stats`], telling `progress` how far it is.
+///
+/// # Panics
+/// As [`render_with_stats`].
+pub fn render_with_progress<T: Float>(
+    scene: &Scene<T>,
+    settings: &Settings,
+    progress: &dyn Progress,
+) -> (Image, RenderStats) {
+    render_choice(scene, settings, effect_choice(scene, settings), progress)
 }
 
 /// The renderer `settings.effects` picks for `scene`: in `auto` mode the specialised one
@@ -110,21 +122,22 @@ pub fn render_with_effects<T: Float>(
         renderer,
         general: renderer.is_general(),
     };
-    render_choice(scene, settings, choice)
+    render_choice(scene, settings, choice, &())
 }
 
 /// One monomorphised renderer, called through [`effects::dispatch`].
 struct Renderer<'a, T: Float> {
     scene: &'a Scene<T>,
     settings: &'a Settings,
+    progress: &'a dyn Progress,
 }
 
 impl<T: Float> EffectFn<(Image, RayCounts)> for Renderer<'_, T> {
     fn call<const FX: u32>(self) -> (Image, RayCounts) {
         if self.settings.spd {
-            render_corners::<T, FX>(self.scene, self.settings)
+            render_corners::<T, FX>(self.scene, self.settings, self.progress)
         } else {
-            render_grid::<T, FX>(self.scene, self.settings)
+            render_grid::<T, FX>(self.scene, self.settings, self.progress)
         }
     }
 }
@@ -132,22 +145,41 @@ impl<T: Float> EffectFn<(Image, RayCounts)> for Renderer<'_, T> {
 /// The `f32` renderers, dispatched on `set`. Not generic, so compiled once, in this
 /// crate.
 #[inline(never)]
-fn render_f32(scene: &Scene<f32>, settings: &Settings, set: EffectSet) -> (Image, RayCounts) {
-    effects::dispatch(set, Renderer { scene, settings })
+fn render_f32(
+    scene: &Scene<f32>,
+    settings: &Settings,
+    set: EffectSet,
+    progress: &dyn Progress,
+) -> (Image, RayCounts) {
+    let renderer = Renderer {
+        scene,
+        settings,
+        progress,
+    };
+    effects::dispatch(set, renderer)
 }
 
 fn render_choice<T: Float>(
     scene: &Scene<T>,
     settings: &Settings,
     choice: EffectChoice,
+    progress: &dyn Progress,
 ) -> (Image, RenderStats) {
     let run = || {
         let cpu = crate::stats::process_cpu_ms();
         let start = Instant::now();
         let start_cycles = crate::cycles::start();
         let (image, rays) = match T::AS_F32 {
-            Some(p) => render_f32(T::to_f32::<SceneOf>(p, scene), settings, choice.renderer),
-            None => Renderer { scene, settings }.call::<{ effects::ALL }>(),
+            Some(p) => {
+                let scene = T::to_f32::<SceneOf>(p, scene);
+                render_f32(scene, settings, choice.renderer, progress)
+            }
+            None => Renderer {
+                scene,
+                settings,
+                progress,
+            }
+            .call::<{ effects::ALL }>(),
         };
         let trace_cycles = crate::cycles::since(start_cycles);
         let trace_ms = start.elapsed().as_secs_f64() * 1e3;
@@ -169,28 +201,12 @@ fn render_choice<T: Float>(
     with_threads(settings.schedule, settings.threads, run)
 }
 
-/// A progress bar on standard error when `settings` asks for one; its length grows as
-/// [`eye_radiance`] adds rows.
-fn progress_bar(settings: &Settings) -> indicatif::ProgressBar {
-    if !settings.progress {
-        return indicatif::ProgressBar::hidden();
-    }
-    let bar =
-        indicatif::ProgressBar::with_draw_target(Some(0), indicatif::ProgressDrawTarget::stderr());
-    if let Ok(style) = indicatif::ProgressStyle::with_template(
-        "{bar:40} {pos}/{len} rows, {elapsed} elapsed, ETA {eta}",
-    ) {
-        bar.set_style(style);
-    }
-    bar
-}
-
-/// How [`eye_radiance`] runs: scheduler, threads, progress bar, and the packets'
+/// How [`eye_radiance`] runs: scheduler, threads, progress, and the packets'
 /// instruction set when they are on (with the proof that `T` is `f32`).
 struct Run<'a, T: Float> {
     schedule: Schedule,
     threads: Option<usize>,
-    bar: &'a indicatif::ProgressBar,
+    progress: &'a dyn Progress,
     packets: Option<(T::F32, Isa)>,
 }
 
@@ -231,12 +247,12 @@ fn eye_radiance<T: Float, const FX: u32>(
         let scene = T::to_f32::<SceneOf>(p, scene);
         let cam = T::to_f32::<CameraOf>(p, cam);
         let limits = T::to_f32::<LimitsOf>(p, limits);
-        run.bar.inc_length(blocks.1 as u64);
+        run.progress.add_rows(blocks.1 as u64);
         let (blocks, counts) = for_each_point(
             blocks,
             run.schedule,
             run.threads,
-            run.bar,
+            run.progress,
             |bx, by, counts| {
                 let mut out = [Vec3::<f32>::zero(); MAX_LANES];
                 eye_packet::<FX>(
@@ -257,11 +273,17 @@ fn eye_radiance<T: Float, const FX: u32>(
         scatter(&blocks, (bw, bh), size, &mut values);
         return (T::from_f32::<PointsOf>(p, values), counts);
     }
-    run.bar.inc_length(size.1 as u64);
-    for_each_point(size, run.schedule, run.threads, run.bar, |x, y, counts| {
-        let (px, py) = grid.point::<T>(x, y);
-        eye_sample::<T, FX>(scene, cam, px, py, limits, counts)
-    })
+    run.progress.add_rows(size.1 as u64);
+    for_each_point(
+        size,
+        run.schedule,
+        run.threads,
+        run.progress,
+        |x, y, counts| {
+            let (px, py) = grid.point::<T>(x, y);
+            eye_sample::<T, FX>(scene, cam, px, py, limits, counts)
+        },
+    )
 }
 
 /// The radiance of each eye ray of one packet of block `(bx, by)` of a `w` x `h` grid,
@@ -334,18 +356,18 @@ fn to_rgb<T: Float>(c: &Vec3<T>) -> [f32; 3] {
 fn render_grid<T: Float, const FX: u32>(
     scene: &Scene<T>,
     settings: &Settings,
+    progress: &dyn Progress,
 ) -> (Image, RayCounts) {
     let (w, h) = settings.size(scene.camera.resolution);
     let size = (w as usize, h as usize);
     let cam = scene.camera_for(w, h);
     let limits = settings.limits::<T>();
     let a = settings.aa.max(1);
-    let bar = progress_bar(settings);
     let mut image = Image::new(w, h);
     let mut run = Run {
         schedule: settings.schedule,
         threads: settings.threads,
-        bar: &bar,
+        progress,
         packets: packets_for::<T>(settings),
     };
     if a == 1 || !has(FX, SUPERSAMPLING) {
@@ -353,7 +375,7 @@ fn render_grid<T: Float, const FX: u32>(
         // does, turns a -0 into +0.
         let (values, counts) =
             eye_radiance::<T, FX>(scene, &cam, Grid::Centers, size, &limits, &run);
-        bar.finish_and_clear();
+        progress.finish();
         let zero = Vec3::<T>::zero();
         for (p, c) in image.pixels.iter_mut().zip(&values) {
             *p = to_rgb(&(&zero + c).eval());
@@ -377,7 +399,7 @@ fn render_grid<T: Float, const FX: u32>(
             *s += v;
         }
     }
-    bar.finish_and_clear();
+    progress.finish();
     for (p, s) in image.pixels.iter_mut().zip(&sums) {
         *p = to_rgb(&s.scale(norm).eval());
     }
@@ -388,21 +410,21 @@ fn render_grid<T: Float, const FX: u32>(
 fn render_corners<T: Float, const FX: u32>(
     scene: &Scene<T>,
     settings: &Settings,
+    progress: &dyn Progress,
 ) -> (Image, RayCounts) {
     let (w, h) = settings.size(scene.camera.resolution);
     let cam = scene.camera_for(w, h);
     let limits = settings.limits::<T>();
     let (cw, ch) = (w as usize + 1, h as usize + 1);
-    let bar = progress_bar(settings);
     let run = Run {
         schedule: settings.schedule,
         threads: settings.threads,
-        bar: &bar,
+        progress,
         packets: packets_for::<T>(settings),
     };
     let (corners, counts) =
         eye_radiance::<T, FX>(scene, &cam, Grid::Corners, (cw, ch), &limits, &run);
-    bar.finish_and_clear();
+    progress.finish();
     let quarter = T::from_f64(0.25);
     let mut image = Image::new(w, h);
     for y in 0..h as usize {
@@ -485,12 +507,11 @@ struct Pass<'a, T: Float> {
 impl<T: Float> EffectFn<RayCounts> for Pass<'_, T> {
     fn call<const FX: u32>(self) -> RayCounts {
         let size = (self.cam.width as usize, self.cam.height as usize);
-        let bar = indicatif::ProgressBar::hidden();
         // Rows in parallel on the current rayon pool.
         let run = Run {
             schedule: Schedule::default(),
             threads: None,
-            bar: &bar,
+            progress: &(),
             packets: self.packets,
         };
         let (values, counts) =

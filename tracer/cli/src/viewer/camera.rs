@@ -6,8 +6,8 @@
 //! right), *rise* along $C_u$; *yaw* turns $C_d$ about the scene's up vector (so the
 //! horizon stays level), *pitch* about $C_l$, and *zoom* scales the angle of view.
 
-use crate::scene::desc::CameraDesc;
-use crate::Camera;
+use tracer::scene::desc::CameraDesc;
+use tracer::Camera;
 use vecexpr::{vec3, Expr, Vec3};
 
 /// Pitch stops this many degrees short of the up vector, where yaw would degenerate.

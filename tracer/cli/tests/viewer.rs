@@ -8,15 +8,16 @@ use std::time::{Duration, Instant};
 use tracer::effects::EffectsMode;
 use tracer::geometry::AccelOptions;
 use tracer::scene::desc::SceneDesc;
-use tracer::viewer::camera::FlyCamera;
-use tracer::viewer::engine::Engine;
-use tracer::viewer::knobs::{Knobs, Precision};
-use tracer::viewer::script;
 use tracer::{render, Image, Scene, Settings};
+use tracer_cli::viewer::camera::FlyCamera;
+use tracer_cli::viewer::engine::Engine;
+use tracer_cli::viewer::knobs::Knobs;
+use tracer_cli::viewer::script;
+use tracer_cli::Precision;
 
 fn scene_path(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("scenes")
+        .join("../scenes")
         .join(name)
 }
 

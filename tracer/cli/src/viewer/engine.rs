@@ -6,14 +6,15 @@
 //! supersample per pixel with [`render::accumulate_pass`], until the `aa` x `aa` grid is
 //! complete; the image is then exactly [`render::render`]'s for the same camera.
 
-use super::knobs::{Knobs, Precision};
-use crate::geometry::AccelOptions;
-use crate::image::Image;
-use crate::render::{self, Settings};
-use crate::scene::desc::{CameraDesc, SceneDesc};
-use crate::stats::RayCounts;
-use crate::world::Scene;
+use super::knobs::Knobs;
+use crate::Precision;
 use std::time::Instant;
+use tracer::geometry::AccelOptions;
+use tracer::image::Image;
+use tracer::render::{self, Settings};
+use tracer::scene::desc::{CameraDesc, SceneDesc};
+use tracer::stats::RayCounts;
+use tracer::world::Scene;
 use vecexpr::{vec3, Expr, Real, Vec3};
 
 /// What one pass cost.
@@ -226,7 +227,7 @@ impl Engine {
 
 /// The scene in precision `T`, built from `desc` on first use (adding the build time to
 /// `build_ms`).
-fn built<'a, T: crate::Float>(
+fn built<'a, T: tracer::Float>(
     slot: &'a mut Option<Scene<T>>,
     desc: &SceneDesc,
     accel: &AccelOptions,
@@ -241,7 +242,7 @@ fn built<'a, T: crate::Float>(
 }
 
 #[allow(clippy::too_many_arguments)]
-fn pass_in<T: crate::Float>(
+fn pass_in<T: tracer::Float>(
     pool: &rayon::ThreadPool,
     scene: &Scene<T>,
     camera: &CameraDesc,
@@ -252,7 +253,7 @@ fn pass_in<T: crate::Float>(
     pass: u32,
     sums: &mut [Vec3<T>],
 ) -> RayCounts {
-    let cam = crate::Camera::new(camera, w, h);
+    let cam = tracer::Camera::new(camera, w, h);
     pool.install(|| render::accumulate_pass(scene, &cam, settings, aa, pass, sums).0)
 }
 

@@ -5,26 +5,9 @@
 //! (`[` and `]`), and camera scripts set knobs by name (`set NAME VALUE`), so a new knob is
 //! one field in [`Knobs`] and one entry in the table.
 
-use crate::effects::EffectsMode;
-use std::fmt;
-
-/// Arithmetic precision of the whole tracer.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub enum Precision {
-    /// 32-bit floats.
-    F32,
-    /// 64-bit floats.
-    F64,
-}
-
-impl fmt::Display for Precision {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
-            Precision::F32 => "f32",
-            Precision::F64 => "f64",
-        })
-    }
-}
+use crate::args::parse_threshold;
+use crate::Precision;
+use tracer::effects::EffectsMode;
 
 /// The current value of every knob.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -90,15 +73,6 @@ fn parse_int(s: &str, lo: u64, hi: u64) -> Result<u64, String> {
         .map_err(|_| format!("`{s}` is not a whole number"))?;
     if !(lo..=hi).contains(&v) {
         return Err(format!("{v} is outside {lo}..={hi}"));
-    }
-    Ok(v)
-}
-
-/// Parses a threshold in [0, 1].
-pub fn parse_threshold(s: &str) -> Result<f64, String> {
-    let v: f64 = s.parse().map_err(|_| format!("`{s}` is not a number"))?;
-    if !(0.0..=1.0).contains(&v) {
-        return Err(format!("threshold must be in [0, 1], got {v}"));
     }
     Ok(v)
 }

@@ -3,9 +3,9 @@
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::process::Command;
-use tracer::accuracy::{compare, median, pareto};
-use tracer::arith::{pow_int, Arith};
+use tracer::stats::median;
 use tracer::Image;
+use tracer_cli::accuracy::{compare, pareto};
 
 fn tracer() -> Command {
     Command::new(env!("CARGO_BIN_EXE_tracer"))
@@ -13,7 +13,7 @@ fn tracer() -> Command {
 
 fn scene(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("scenes")
+        .join("../scenes")
         .join(name)
 }
 
@@ -258,26 +258,4 @@ fn pareto_front_and_median() {
     assert_eq!(pareto(&pts), [true, true, false, false, true, true]);
     assert_eq!(median(&[3.0, 1.0, 2.0]), 2.0);
     assert_eq!(median(&[4.0, 1.0, 2.0, 3.0]), 2.5);
-}
-
-#[test]
-fn integer_powers() {
-    for n in 0..40u32 {
-        for x in [0.0f64, 0.3, 0.99, 1.0, 1.7] {
-            let exact = x.powi(n as i32);
-            assert!(
-                (pow_int(x, n) - exact).abs() <= 1e-12 * exact.max(1.0),
-                "{x}^{n}"
-            );
-        }
-    }
-    let ar = Arith {
-        int_pow: true,
-        ..Arith::EXACT
-    };
-    // The exponent is rounded to the nearest integer.
-    assert_eq!(ar.pow(0.5f32, 3.0827), 0.125);
-    assert_eq!(Arith::EXACT.pow(0.5f32, 3.0827), 0.5f32.powf(3.0827));
-    assert_eq!(ar.label(), "int-pow");
-    assert_eq!(Arith::default().label(), "exact");
 }

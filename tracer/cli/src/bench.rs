@@ -9,17 +9,111 @@
 //! The frame is a full render (Whitted shading at the given depth) with the given
 //! scheduler. Nothing here asserts on time: it only reports.
 
-use crate::geometry::offset_ray;
-use crate::geometry::AccelOptions;
-use crate::packets::{EyePackets, Packets};
-use crate::ray::Ray;
-use crate::render::{render_with_stats, Schedule, Settings};
-use crate::scene::desc::SceneDesc;
-use crate::stats::process_cpu_ms;
-use crate::world::Scene;
+use crate::args::{load_scene, PacketArgs, Precision, ScheduleArgs};
 use rayon::prelude::*;
+use std::path::PathBuf;
 use std::time::Instant;
+use tracer::geometry::offset_ray;
+use tracer::geometry::AccelOptions;
+use tracer::packets::{EyePackets, Packets};
+use tracer::ray::Ray;
+use tracer::render::{render_with_stats, Schedule, Settings};
+use tracer::scene::desc::SceneDesc;
+use tracer::stats::{median, process_cpu_ms};
+use tracer::world::Scene;
 use vecexpr::Expr;
+
+#[derive(clap::Args, Debug)]
+/// Options of `tracer bench`.
+pub struct BenchArgs {
+    /// Scene files (.nff, .nff.gz, .obj).
+    #[arg(required = true)]
+    pub scenes: Vec<PathBuf>,
+    /// Image width.
+    #[arg(long, default_value_t = 512, value_parser = clap::value_parser!(u32).range(1..=65536))]
+    pub width: u32,
+    /// Image height.
+    #[arg(long, default_value_t = 512, value_parser = clap::value_parser!(u32).range(1..=65536))]
+    pub height: u32,
+    /// Maximum ray depth of the frame.
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=64))]
+    pub depth: u32,
+    /// Runs per measurement (medians are printed).
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=1000))]
+    pub runs: u32,
+    /// Worker threads (default: all cores).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub threads: Option<u32>,
+    /// Arithmetic precision.
+    #[arg(long, value_enum, default_value_t = Precision::F32)]
+    pub precision: Precision,
+    /// Trace without the BVH (brute force).
+    #[arg(long)]
+    pub no_bvh: bool,
+    /// Traverse the binary BVH instead of the four-wide one.
+    #[arg(long)]
+    pub binary_bvh: bool,
+    /// Output of povray-times, for the ratio column.
+    #[arg(long, value_name = "FILE")]
+    pub peer: Option<PathBuf>,
+    /// Parallel scheduler and tile size.
+    #[command(flatten)]
+    pub schedule: ScheduleArgs,
+    /// Eye-ray packets and their instruction set.
+    #[command(flatten)]
+    pub packets: PacketArgs,
+}
+
+/// Runs `tracer bench`: loads every scene, measures it, and prints the tables.
+///
+/// # Errors
+/// One line `FILE:LINE: message` or `FILE: message` for bad input.
+pub fn run(args: &BenchArgs) -> Result<(), String> {
+    let peer = match &args.peer {
+        Some(p) => parse_peer_times(
+            &std::fs::read_to_string(p).map_err(|e| format!("{}: {e}", p.display()))?,
+        ),
+        None => Vec::new(),
+    };
+    let opts = BenchOptions {
+        width: args.width,
+        height: args.height,
+        depth: args.depth,
+        runs: args.runs as usize,
+        threads: args.threads.map(|t| t as usize),
+        schedule: args.schedule.schedule(),
+        accel: AccelOptions {
+            use_bvh: !args.no_bvh,
+            wide: !args.binary_bvh,
+            ..AccelOptions::default()
+        },
+        packets: args.packets.packets()?,
+    };
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(opts.threads.unwrap_or(0))
+        .build()
+        .map_err(|e| format!("cannot create the thread pool: {e}"))?;
+    let mut rows = Vec::new();
+    for path in &args.scenes {
+        let desc = load_scene(path, &Default::default())?;
+        let name = path
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let name = name.split('.').next().unwrap_or_default().to_string();
+        let row = pool.install(|| match args.precision {
+            Precision::F32 => bench_scene::<f32>(&name, &desc, &opts),
+            Precision::F64 => bench_scene::<f64>(&name, &desc, &opts),
+        });
+        rows.push(row);
+    }
+    print!("{}", table(&rows, &peer));
+    let packets = packet_table(&rows);
+    if !packets.is_empty() {
+        print!("\n{packets}");
+    }
+    Ok(())
+}
 
 /// Rays per parallel task when casting.
 pub const CHUNK: usize = 1024;
@@ -97,20 +191,6 @@ pub struct BenchRow {
     pub eye_packet: Timing,
 }
 
-/// The median of `v` (0 for none).
-pub fn median(v: &mut [f64]) -> f64 {
-    if v.is_empty() {
-        return 0.0;
-    }
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        0.5 * (v[n / 2 - 1] + v[n / 2])
-    }
-}
-
 /// Median wall time and median process CPU time in ms of `runs` calls of `f`.
 fn time_median(runs: usize, mut f: impl FnMut()) -> Timing {
     let (mut wall, mut cpu) = (Vec::new(), Vec::new());
@@ -124,8 +204,8 @@ fn time_median(runs: usize, mut f: impl FnMut()) -> Timing {
         }
     }
     Timing {
-        wall: median(&mut wall),
-        cpu: median(&mut cpu),
+        wall: median(&wall),
+        cpu: median(&cpu),
     }
 }
 
@@ -147,7 +227,11 @@ fn mrays(n: usize, ms: f64) -> f64 {
 }
 
 /// Measures one scene in precision `T` on the current rayon pool.
-pub fn bench_scene<T: crate::Float>(name: &str, desc: &SceneDesc, opts: &BenchOptions) -> BenchRow {
+pub fn bench_scene<T: tracer::Float>(
+    name: &str,
+    desc: &SceneDesc,
+    opts: &BenchOptions,
+) -> BenchRow {
     let mut builds = Vec::new();
     let mut scene = None;
     for _ in 0..opts.runs.max(1) {
@@ -173,7 +257,7 @@ pub fn bench_scene<T: crate::Float>(name: &str, desc: &SceneDesc, opts: &BenchOp
         })
         .collect();
     let mut hits = vec![None; eye.len()];
-    let cast_eye = |hits: &mut [Option<crate::ray::Hit<T>>]| {
+    let cast_eye = |hits: &mut [Option<tracer::ray::Hit<T>>]| {
         hits.par_chunks_mut(CHUNK)
             .zip(eye.par_chunks(CHUNK))
             .for_each(|(hs, rs)| {
@@ -184,7 +268,7 @@ pub fn bench_scene<T: crate::Float>(name: &str, desc: &SceneDesc, opts: &BenchOp
     };
     // Packets of the same eye rays (f32 only), run by run alternating with single rays.
     let scene32 = (&scene as &dyn core::any::Any).downcast_ref::<Scene<f32>>();
-    let cam32 = (&cam as &dyn core::any::Any).downcast_ref::<crate::Camera<f32>>();
+    let cam32 = (&cam as &dyn core::any::Any).downcast_ref::<tracer::Camera<f32>>();
     let mut packets = match (opts.packets.isa(), cam32) {
         (Some(isa), Some(cam)) => Some(EyePackets::new(cam, isa)),
         _ => None,
@@ -197,8 +281,8 @@ pub fn bench_scene<T: crate::Float>(name: &str, desc: &SceneDesc, opts: &BenchOp
         }
     }
     let median_of = |t: &[Timing]| Timing {
-        wall: median(&mut t.iter().map(|t| t.wall).collect::<Vec<_>>()),
-        cpu: median(&mut t.iter().map(|t| t.cpu).collect::<Vec<_>>()),
+        wall: median(&t.iter().map(|t| t.wall).collect::<Vec<_>>()),
+        cpu: median(&t.iter().map(|t| t.cpu).collect::<Vec<_>>()),
     };
     let eye_ms = median_of(&eye_t);
     let eye_packet = median_of(&packet_t);
@@ -268,7 +352,7 @@ pub fn bench_scene<T: crate::Float>(name: &str, desc: &SceneDesc, opts: &BenchOp
     BenchRow {
         scene: name.to_string(),
         primitives: g.spheres + g.triangles + g.cones,
-        build_ms: median(&mut builds),
+        build_ms: median(&builds),
         nodes: g.bvh_nodes,
         bytes_per_prim: g.bytes_per_primitive(),
         eye_rays: eye.len(),
@@ -278,8 +362,8 @@ pub fn bench_scene<T: crate::Float>(name: &str, desc: &SceneDesc, opts: &BenchOp
         reflect_rays: reflect.len(),
         reflect: reflect_ms,
         frame: Timing {
-            wall: median(&mut frames),
-            cpu: median(&mut frames_cpu),
+            wall: median(&frames),
+            cpu: median(&frames_cpu),
         },
         frame_rays,
         packets: opts.packets,
@@ -369,13 +453,6 @@ pub fn packet_table(rows: &[BenchRow]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn medians() {
-        assert_eq!(median(&mut []), 0.0);
-        assert_eq!(median(&mut [3.0, 1.0, 2.0]), 2.0);
-        assert_eq!(median(&mut [4.0, 1.0, 2.0, 3.0]), 2.5);
-    }
 
     #[test]
     fn peer_table_parses() {

@@ -3,7 +3,7 @@
 //!
 //! # Pieces
 //! - [`engine`]: progressive rendering without a window. While the camera is still it
-//!   adds one supersample per pixel per frame ([`crate::render::accumulate_pass`]) until
+//!   adds one supersample per pixel per frame ([`tracer::render::accumulate_pass`]) until
 //!   the `aa` x `aa` grid is complete, when the image equals `tracer render --aa A` bit
 //!   for bit; any change of camera or knob restarts at one sample per pixel.
 //! - [`camera`]: the moving camera, along the tracer's $C_d$, $C_l$, $C_u$.
@@ -38,13 +38,15 @@ pub mod knobs;
 pub mod script;
 mod window;
 
-use crate::effects::EffectsMode;
-use crate::geometry::AccelOptions;
-use crate::scene::{self, desc::SceneDesc};
+use crate::args::{load_scene, parse_threshold, CameraArgs};
+use crate::Precision;
 use camera::FlyCamera;
 use engine::{Engine, PassStats};
-use knobs::{Knobs, Precision};
+use knobs::Knobs;
 use std::path::{Path, PathBuf};
+use tracer::effects::EffectsMode;
+use tracer::geometry::AccelOptions;
+use tracer::stats::median;
 
 /// Options of `tracer view`.
 #[derive(clap::Args, Debug, Clone)]
@@ -64,7 +66,7 @@ pub struct ViewArgs {
     #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=knobs::MAX_DEPTH as i64))]
     pub depth: u32,
     /// Adaptive termination: skip secondary rays whose weight is below T (0 = off).
-    #[arg(long, default_value_t = 0.0, value_parser = knobs::parse_threshold)]
+    #[arg(long, default_value_t = 0.0, value_parser = parse_threshold)]
     pub threshold: f64,
     /// Rendering threads (default: all cores).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=knobs::MAX_THREADS as i64))]
@@ -78,18 +80,9 @@ pub struct ViewArgs {
     /// Trace without the BVH (brute force).
     #[arg(long)]
     pub no_bvh: bool,
-    /// OBJ camera position (x,y,z); NFF scenes carry their own camera.
-    #[arg(long, value_parser = scene::parse_vec3, allow_hyphen_values = true)]
-    pub from: Option<[f64; 3]>,
-    /// OBJ camera target (x,y,z).
-    #[arg(long, value_parser = scene::parse_vec3, allow_hyphen_values = true)]
-    pub at: Option<[f64; 3]>,
-    /// OBJ camera up vector (x,y,z).
-    #[arg(long, value_parser = scene::parse_vec3, allow_hyphen_values = true)]
-    pub up: Option<[f64; 3]>,
-    /// OBJ camera vertical angle of view in degrees.
-    #[arg(long)]
-    pub angle: Option<f64>,
+    /// The camera of an OBJ scene.
+    #[command(flatten)]
+    pub camera: CameraArgs,
     /// Play a camera path (one command a line, one frame each), let the last view
     /// converge, write --screenshot if given, and exit.
     #[arg(long, value_name = "FILE")]
@@ -122,21 +115,6 @@ impl ViewArgs {
     }
 }
 
-/// Reads the scene as `tracer render` does (OBJ files take the camera options).
-///
-/// # Errors
-/// One line `FILE:LINE: message`.
-pub fn load_scene(args: &ViewArgs) -> Result<SceneDesc, String> {
-    let opts = scene::ObjOptions {
-        from: args.from,
-        at: args.at,
-        up: args.up,
-        angle: args.angle,
-        ..scene::ObjOptions::default()
-    };
-    scene::load_with(&args.scene, &opts).map_err(|e| e.to_string())
-}
-
 /// What a run needs besides the window: the engine, the camera and the mode.
 pub(crate) struct Setup {
     pub engine: Engine,
@@ -166,7 +144,7 @@ pub fn run(args: &ViewArgs) -> Result<(), String> {
         }
     }
     let script = args.script.as_deref().map(script::load).transpose()?;
-    let desc = load_scene(args)?;
+    let desc = load_scene(&args.scene, &args.camera.obj_options())?;
     let (sw, sh) = desc.camera.resolution;
     let (w, h) = (args.width.unwrap_or(sw), args.height.unwrap_or(sh));
     let accel = AccelOptions {
@@ -234,7 +212,7 @@ fn headless(mut s: Setup) -> Result<(), String> {
 }
 
 /// Writes `image` as PNG, atomically.
-pub(crate) fn save_png(image: &crate::Image, path: &Path) -> Result<(), String> {
+pub(crate) fn save_png(image: &tracer::Image, path: &Path) -> Result<(), String> {
     image
         .save(path)
         .map_err(|e| format!("{}: cannot write screenshot: {e}", path.display()))
@@ -245,7 +223,7 @@ pub(crate) struct Bench {
     frames: u32,
     frame_ms: Vec<f64>,
     trace_ms: Vec<f64>,
-    rays: crate::RayCounts,
+    rays: tracer::RayCounts,
 }
 
 impl Bench {
@@ -254,7 +232,7 @@ impl Bench {
             frames,
             frame_ms: Vec::new(),
             trace_ms: Vec::new(),
-            rays: crate::RayCounts::default(),
+            rays: tracer::RayCounts::default(),
         }
     }
 
@@ -310,35 +288,13 @@ impl Bench {
     }
 }
 
-/// The median (the mean of the middle two for an even count); 0 for none.
-pub fn median(xs: &[f64]) -> f64 {
-    if xs.is_empty() {
-        return 0.0;
-    }
-    let mut v = xs.to_vec();
-    v.sort_by(f64::total_cmp);
-    let m = v.len() / 2;
-    if v.len() % 2 == 1 {
-        v[m]
-    } else {
-        0.5 * (v[m - 1] + v[m])
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
-    fn median_of_odd_even_and_none() {
-        assert_eq!(median(&[3.0, 1.0, 2.0]), 2.0);
-        assert_eq!(median(&[4.0, 1.0, 3.0, 2.0]), 2.5);
-        assert_eq!(median(&[]), 0.0);
-    }
-
-    #[test]
     fn benchmark_frames_alternate_between_two_close_views() {
-        let desc = crate::scene::desc::CameraDesc {
+        let desc = tracer::scene::desc::CameraDesc {
             from: [0.0, -10.0, 0.0],
             at: [0.0, 0.0, 0.0],
             up: [0.0, 0.0, 1.0],

@@ -1,0 +1,22 @@
+//! The front ends of the [`tracer`] library, behind the `tracer` command: each
+//! subcommand parses its flags ([`clap`]) and calls the library.
+//!
+//! - [`render`]: `tracer render`, one image and its statistics;
+//! - [`bench`]: `tracer bench`, build time, ray throughput and frame time;
+//! - [`accuracy`]: `tracer accuracy`, image error against render time per setting;
+//! - [`viewer`]: `tracer view`, the interactive window (winit, softbuffer);
+//! - [`args`]: what they share: [`Precision`], the scheduler, packet and OBJ camera
+//!   options, and [`args::load_scene`], the one way every subcommand reads a scene;
+//! - [`progress`]: the terminal progress bar of `tracer render`.
+//!
+//! The library itself links none of these crates: a program that renders with `tracer`
+//! compiles no argument parser, window or progress bar.
+
+pub mod accuracy;
+pub mod args;
+pub mod bench;
+pub mod progress;
+pub mod render;
+pub mod viewer;
+
+pub use args::Precision;
