@@ -4,4 +4,4 @@
 # The dumps are written even when a rule fails, so the failing assembly can be read.
 set -eu
 cd "$(dirname "$0")/.."
-ASM_DUMPS_UPDATE=1 cargo test -p asm-dumps --test asm_check -- --nocapture
+ASM_DUMPS_UPDATE=1 cargo test -p asm-dumps --test integration asm_check:: -- --nocapture

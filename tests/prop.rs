@@ -1,4 +1,4 @@
-//! Property-test glue shared by the test files (`mod prop;`): input strategies and a
+//! Property-test glue of the property tests (`mod prop;`): input strategies and a
 //! runner that executes each property on a thread with a large stack, so that several
 //! 1000-element vectors of 16-lane packets (64 KiB each) fit comfortably.
 #![allow(dead_code)]

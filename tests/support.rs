@@ -12,8 +12,8 @@
 //! unspecified; the sign of zero must match). Reductions run per lane on slices of
 //! length `N`.
 //!
-//! The property-test runner and input strategies live in `tests/prop.rs`, a module each
-//! test file includes with `mod prop;` (they need `proptest`, a dev-dependency, which
+//! The property-test runner and input strategies live in `tests/prop.rs`, a module the
+//! property tests include with `mod prop;` (they need `proptest`, a dev-dependency, which
 //! this library cannot use).
 //!
 //! # Type rules that must not compile

@@ -13,6 +13,7 @@
 //! variants of an operator (owned operands, lane scalars, expression operands) are
 //! covered by a few deep trees rather than one expression each.
 
+#[path = "prop.rs"]
 mod prop;
 
 use integration_tests::{

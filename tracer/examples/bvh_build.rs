@@ -1,7 +1,7 @@
 //! BVH build time and tree quality per scene.
 //!
 //! ```sh
-//! cargo run --release -p tracer --example bvh_build -- [--runs N] [--threads N] SCENE...
+//! cargo run --profile perf -p tracer --example bvh_build -- [--runs N] [--threads N] SCENE...
 //! ```
 //!
 //! For each scene the geometry (`f32`) is built `--runs` times with the BVH and as many

@@ -1,8 +1,8 @@
 //! Specialised against general renderer, per scene, interleaved.
 //!
 //! ```sh
-//! cargo run --release -p tracer --example effects -- ../shared/scenes/spd
-//! cargo run --release -p tracer --example effects -- --runs 11 --threads 2 DIR_OR_SCENE...
+//! cargo run --profile perf -p tracer --example effects -- ../shared/scenes/spd
+//! cargo run --profile perf -p tracer --example effects -- --runs 11 --threads 2 DIR_OR_SCENE...
 //! ```
 //!
 //! For each scene (a file, or the SPD scenes at their published sizes found in a

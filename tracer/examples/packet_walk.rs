@@ -3,7 +3,7 @@
 //! hand-over to single rays where few rays of a packet are left).
 //!
 //! ```sh
-//! cargo run --release -p tracer --example packet_walk -- [--runs N] [--threads N] \
+//! cargo run --profile perf -p tracer --example packet_walk -- [--runs N] [--threads N] \
 //!     [--isa sse2|avx2|avx512] [--size WxH] [--only single|binary|wide] \
 //!     [--traversal-cost C] [--max-leaf N] [--tile N] SCENE...
 //! ```

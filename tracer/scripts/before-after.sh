@@ -4,9 +4,10 @@
 # old and the new binary back to back and checks that the two images are identical.
 # Prints per-scene medians and the median of the per-round ratios old / new.
 # Usage: tracer/scripts/before-after.sh OLD_BIN NEW_BIN [ROUNDS]
-#   e.g. git worktree add /tmp/old COMMIT && cargo build --release --manifest-path
-#   /tmp/old/Cargo.toml && tracer/scripts/before-after.sh /tmp/old/target/release/tracer
-#   target/release/tracer 3
+#   e.g. git worktree add /tmp/old COMMIT && cargo build --profile perf --manifest-path
+#   /tmp/old/Cargo.toml && tracer/scripts/before-after.sh /tmp/old/target/perf/tracer
+#   target/perf/tracer 3
+#   (a commit older than the `perf` profile: its `--release` build has the same settings)
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 old=$1 new=$2 rounds=${3:-3}

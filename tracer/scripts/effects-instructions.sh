@@ -8,8 +8,8 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 scenes=$root/../shared/scenes/spd
 if [ -d "${1:-}" ]; then scenes=$1; shift; fi
-cargo build --release -q -p tracer-cli --manifest-path "$root/Cargo.toml"
-bin=${CARGO_TARGET_DIR:-$root/target}/release/tracer
+cargo build --profile perf -q -p tracer-cli --manifest-path "$root/Cargo.toml"
+bin=${CARGO_TARGET_DIR:-$root/target}/perf/tracer
 out=$(mktemp -d)
 ir() { # SCENE MODE
   valgrind --tool=callgrind --callgrind-out-file="$out/cg.out" --toggle-collect='*render_f32*' \

@@ -4,7 +4,7 @@
 # 1x1 render of the same scene, so parsing and the BVH build cancel out. Instruction
 # counts do not depend on the machine's load, unlike times.
 # Usage: tracer/scripts/instructions.sh "OLD_BIN [ARGS]" "NEW_BIN [ARGS]"
-#   e.g. tracer/scripts/instructions.sh "target/release/tracer --binary-bvh" target/release/tracer
+#   e.g. tracer/scripts/instructions.sh "target/perf/tracer --binary-bvh" target/perf/tracer
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 S=$root/../shared/scenes/spd

@@ -17,8 +17,8 @@ scenes=("$@")
 spd="$root/../shared/scenes/spd"
 [[ ${#scenes[@]} -eq 0 ]] && scenes=("$spd"/{balls-s4,gears-s4,mount-s6,rings-s7,teapot-s12,tetra-s6,tree-s11}.nff)
 out=$(mktemp -d)
-cargo build --release -q -p tracer-cli --manifest-path "$root/Cargo.toml"
-bin=${TRACER_BIN:-${CARGO_TARGET_DIR:-$root/target}/release/tracer}
+cargo build --profile perf -q -p tracer-cli --manifest-path "$root/Cargo.toml"
+bin=${TRACER_BIN:-${CARGO_TARGET_DIR:-$root/target}/perf/tracer}
 isas=()
 for isa in sse2 avx2 avx512; do
   if "$bin" bench "${scenes[0]}" --width 8 --height 8 --runs 1 --isa "$isa" >/dev/null 2>&1; then

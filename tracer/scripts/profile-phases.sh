@@ -12,8 +12,8 @@ root=$(cd "$(dirname "$0")/../.." && pwd)
 scene=${1:?usage: profile-phases.sh SCENE.nff [all|auto]...}
 shift
 modes=${*:-all auto}
-cargo build --release -q -p tracer-cli --manifest-path "$root/Cargo.toml"
-bin=${CARGO_TARGET_DIR:-$root/target}/release/tracer
+cargo build --profile perf -q -p tracer-cli --manifest-path "$root/Cargo.toml"
+bin=${CARGO_TARGET_DIR:-$root/target}/perf/tracer
 out=$(mktemp -d)
 for m in $modes; do
   perf record -q -e cpu-clock -F 4000 --call-graph dwarf,16384 -o "$out/perf.data" \

@@ -16,11 +16,10 @@ runs=${1:-3}
 threads=${2:-$(nproc)}
 cd "$root"
 if [[ -z ${TRACER:-} || -z ${BVH_BUILD:-} ]]; then
-  cargo build --release -q -p tracer-cli --bin tracer
-  cargo build --release -q -p tracer --example bvh_build
+  cargo build --profile perf -q -p tracer-cli --bin tracer --example bvh_build
 fi
-T=${TRACER:-$root/target/release/tracer}
-B=${BVH_BUILD:-$root/target/release/examples/bvh_build}
+T=${TRACER:-$root/target/perf/tracer}
+B=${BVH_BUILD:-$root/target/perf/examples/bvh_build}
 S=$root/../shared/scenes/spd
 L=$root/../shared/scenes/spd-large
 small=(balls-s4 tetra-s6 mount-s6 teapot-s12)

@@ -7,8 +7,8 @@ root=$(cd "$(dirname "$0")/../.." && pwd)
 scenes=${1:-$root/../shared/scenes/spd}
 out=${2:-$(mktemp -d)}
 mkdir -p "$out"
-cargo build --release -q -p tracer-cli --manifest-path "$root/Cargo.toml"
-bin=${CARGO_TARGET_DIR:-$root/target}/release/tracer
+cargo build --profile perf -q -p tracer-cli --manifest-path "$root/Cargo.toml"
+bin=${CARGO_TARGET_DIR:-$root/target}/perf/tracer
 printf '| scene | eye | reflection | refraction | shadow | total | trace ms |\n|---|---:|---:|---:|---:|---:|---:|\n'
 for s in balls-s4 gears-s4 mount-s6 rings-s7 teapot-s12 tetra-s6 tree-s11; do
   "$bin" render "$scenes/$s.nff" -o "$out/$s.png" --spd --stats "$out/$s.json" 2>/dev/null

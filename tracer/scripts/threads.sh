@@ -12,8 +12,8 @@ shift $(( $# < 2 ? $# : 2 ))
 scenes=("$@")
 [[ ${#scenes[@]} -eq 0 ]] && scenes=("$root/../shared/scenes/spd/balls-s4.nff" "$root/../shared/scenes/spd/teapot-s12.nff")
 out=$(mktemp -d)
-cargo build --release -q -p tracer-cli --manifest-path "$root/Cargo.toml"
-bin=${TRACER_BIN:-${CARGO_TARGET_DIR:-$root/target}/release/tracer}
+cargo build --profile perf -q -p tracer-cli --manifest-path "$root/Cargo.toml"
+bin=${TRACER_BIN:-${CARGO_TARGET_DIR:-$root/target}/perf/tracer}
 configs=("rayon 16" "static 16" "tiles 4" "tiles 16" "tiles 64")
 for r in $(seq 1 "$rounds"); do
   for s in "${scenes[@]}"; do

@@ -10,8 +10,8 @@ scenes=${1:-$root/../shared/scenes/spd}
 rounds=${2:-3}
 frames=${3:-10}
 shift $(( $# < 3 ? $# : 3 ))
-cargo build --release -q -p tracer-cli --manifest-path "$root/Cargo.toml"
-bin=${CARGO_TARGET_DIR:-$root/target}/release/tracer
+cargo build --profile perf -q -p tracer-cli --manifest-path "$root/Cargo.toml"
+bin=${CARGO_TARGET_DIR:-$root/target}/perf/tracer
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 for r in $(seq "$rounds"); do

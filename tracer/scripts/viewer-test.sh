@@ -47,5 +47,5 @@ echo "viewer-test: Xvfb on $DISPLAY"
 
 cd "$root"
 # --workspace: the same features as CI's `cargo test --workspace`, so nothing is rebuilt.
-TRACER_VIEWER_REQUIRE_DISPLAY=1 cargo test -q --workspace --test viewer -- \
-  --exact windowed_script_matches_offline_render --nocapture
+TRACER_VIEWER_REQUIRE_DISPLAY=1 cargo test -q --workspace --test cli -- \
+  --exact viewer::windowed_script_matches_offline_render --nocapture

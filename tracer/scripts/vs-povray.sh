@@ -18,8 +18,8 @@ extra=("$@")
 scenes=$root/../shared/scenes/spd
 peer=$root/../shared/peers/povray-times
 mkdir -p "$out"
-cargo build --release -q -p tracer-cli --manifest-path "$root/Cargo.toml"
-bin=${TRACER_BIN:-${CARGO_TARGET_DIR:-$root/target}/release/tracer}
+cargo build --profile perf -q -p tracer-cli --manifest-path "$root/Cargo.toml"
+bin=${TRACER_BIN:-${CARGO_TARGET_DIR:-$root/target}/perf/tracer}
 list=(balls-s4 gears-s4 mount-s6 rings-s7 teapot-s12 tetra-s6 tree-s11)
 for r in $(seq 1 "$rounds"); do
   "$peer" "$out/pov-$r" >"$out/pov-$r.txt"

@@ -117,8 +117,8 @@ fn spd_mode_counts_corner_rays() {
 }
 
 /// Per-channel comparison against a checked-in PNG. Regenerate with
-/// `UPDATE_GOLDEN=1 cargo test -p tracer --test render golden` after checking the new
-/// images by eye.
+/// `UPDATE_GOLDEN=1 cargo test -p tracer --test integration render::golden` after
+/// checking the new images by eye.
 #[test]
 fn golden_images() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/golden");

@@ -3,8 +3,8 @@
 //! suite, pbrt-v4's shape tests and Ray Tracing Gems (2019) chapters 6 and 7; the cases,
 //! methods and measured numbers are in `tracer/ROBUSTNESS.md`.
 //!
-//! Every test prints what it measured (`cargo test -p tracer --test robustness --
-//! --nocapture`). `ROBUSTNESS_SIZE=512` renders the f32/f64 comparison at full size.
+//! Every test prints what it measured (`cargo test -p tracer --test integration
+//! robustness:: -- --nocapture`). `ROBUSTNESS_SIZE=512` renders the f32/f64 comparison at full size.
 
 use tracer::geometry::{offset_ray, AccelOptions, Geometry, GeometryBuilder, TriangleTest};
 use tracer::scene::desc::{MaterialDesc, P3};

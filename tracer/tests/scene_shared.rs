@@ -3,7 +3,7 @@
 //! (the one holding `spd/`, `spd-large/`, `spd-obj/`) in `TRACER_SCENE_DATA`:
 //!
 //! ```text
-//! TRACER_SCENE_DATA=/path/to/scenes cargo test --release -p tracer --test scene_shared -- --ignored --nocapture
+//! TRACER_SCENE_DATA=/path/to/scenes cargo test --release -p tracer --test integration scene_shared:: -- --ignored --nocapture
 //! ```
 
 use std::path::{Path, PathBuf};
