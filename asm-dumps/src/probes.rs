@@ -284,3 +284,27 @@ pub fn mat3_vec3_f32(m: &[F32x3; 3], v: &F32x3, out: &mut F32x3) {
 pub fn mat3_vec3_glam_mat3a(m: &Mat3A, v: &Vec3A, out: &mut Vec3A) {
     *out = *m * *v;
 }
+
+// ----- vecexpr's padded single 3-vector (`vecexpr::Vec3A`) ---------------------------------
+
+/// Reflects one `vecexpr::Vec3A` (16-byte aligned, one register).
+#[unsafe(no_mangle)]
+#[inline(never)]
+pub fn reflect_vec3a(i: &vecexpr::Vec3A, n: &vecexpr::Vec3A, out: &mut vecexpr::Vec3A) {
+    *out = i.reflect(*n);
+}
+
+/// Normalises one `vecexpr::Vec3A` (robust: zero, tiny and huge vectors take a cold
+/// out-of-line path).
+#[unsafe(no_mangle)]
+#[inline(never)]
+pub fn normalize_vec3a(v: &vecexpr::Vec3A, out: &mut vecexpr::Vec3A) {
+    *out = v.normalize();
+}
+
+/// `i.reflect(n).normalize()` on one `vecexpr::Vec3A`.
+#[unsafe(no_mangle)]
+#[inline(never)]
+pub fn reflect_normalize_vec3a(i: &vecexpr::Vec3A, n: &vecexpr::Vec3A, out: &mut vecexpr::Vec3A) {
+    *out = i.reflect(*n).normalize();
+}

@@ -178,3 +178,22 @@ fn long_vector_probes_agree_with_loops() {
     let naive: f64 = (0..1024).map(|i| f64::from(a[i]) * f64::from(b[i])).sum();
     assert!((f64::from(dot) - naive).abs() < 1e-3, "{dot} vs {naive}");
 }
+
+#[test]
+fn vec3a_probes_agree_with_glam_and_vector() {
+    use vecexpr::Expr;
+    let (i, n) = ([0.3f32, -0.8, 0.2], unit(0.1, 1.0, -0.3));
+    let (gi, gn) = (Vec3A::from(i), Vec3A::from(n));
+    let (vi, vn) = (vecexpr::Vec3A::from(i), vecexpr::Vec3A::from(n));
+    let mut r = vecexpr::Vec3A::ZERO;
+    reflect_vec3a(&vi, &vn, &mut r);
+    assert!(close(r.to_array(), gi.reflect(gn)));
+    assert_eq!(r.to_vector(), F32x3::from(i).reflect(&F32x3::from(n)));
+    normalize_vec3a(&(vi * 3.0), &mut r);
+    assert!(close(r.to_array(), (gi * 3.0).normalize()));
+    reflect_normalize_vec3a(&(vi * 3.0), &vn, &mut r);
+    assert!(close(r.to_array(), (gi * 3.0).reflect(gn).normalize()));
+    // The robust path: a tiny vector still normalises.
+    normalize_vec3a(&vecexpr::Vec3A::new(1e-30, 0.0, 0.0), &mut r);
+    assert_eq!(r, vecexpr::Vec3A::X);
+}

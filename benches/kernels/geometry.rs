@@ -41,7 +41,8 @@ macro_rules! geometry_group {
      hand: |$ha:ident, $hb:ident| $hd:expr,
      glam: |$ga:ident, $gb:ident| $gl:expr,
      nalgebra: |$na:ident, $nb:ident| $ne:expr,
-     ultraviolet: |$ua:ident, $ub:ident| $uv:expr $(,)?) => {
+     ultraviolet: |$ua:ident, $ub:ident| $uv:expr
+     $(, vec3a: |$xa:ident, $xb:ident| $xe:expr)? $(,)?) => {
         #[doc = concat!("The criterion group `", $group, "`.")]
         pub fn $fn_name(c: &mut Criterion) {
             use benches::eager::Eager;
@@ -91,6 +92,17 @@ macro_rules! geometry_group {
                     $gl
                 },
             );
+            $(single(
+                &mut g,
+                "vecexpr_vec3a",
+                "3",
+                i.v3a[0],
+                n.v3a[0],
+                |$xa: &vecexpr::Vec3A, $xb: &vecexpr::Vec3A| {
+                    let ($xa, $xb) = (*$xa, *$xb);
+                    $xe
+                },
+            );)?
             single(
                 &mut g,
                 "nalgebra",
@@ -139,6 +151,17 @@ macro_rules! geometry_group {
                     $gl
                 },
             );
+            $(batch(
+                &mut g,
+                "vecexpr_vec3a",
+                AOS,
+                &i.v3a,
+                &n.v3a,
+                |$xa: &vecexpr::Vec3A, $xb: &vecexpr::Vec3A| {
+                    let ($xa, $xb) = (*$xa, *$xb);
+                    $xe
+                },
+            );)?
             batch(
                 &mut g,
                 "nalgebra",
@@ -238,6 +261,7 @@ geometry_group!(normalize, "normalize", 4,
     glam: |a, _b| a.normalize(),
     nalgebra: |a, _b| a.normalize(),
     ultraviolet: |a, _b| a.normalized(),
+    vec3a: |a, _b| a.normalize(),
 );
 
 geometry_group!(cross, "cross", 5,
@@ -247,6 +271,7 @@ geometry_group!(cross, "cross", 5,
     glam: |a, b| a.cross(b),
     nalgebra: |a, b| a.cross(b),
     ultraviolet: |a, b| a.cross(b),
+    vec3a: |a, b| a.cross(b),
 );
 
 geometry_group!(reflect, "reflect", 6,
@@ -256,6 +281,7 @@ geometry_group!(reflect, "reflect", 6,
     glam: |a, b| a.reflect(b),
     nalgebra: |a, b| a - b * (2.0 * b.dot(a)),
     ultraviolet: |a, b| a.reflected(b),
+    vec3a: |a, b| a.reflect(b),
 );
 
 geometry_group!(refract, "refract", 7,
@@ -280,6 +306,7 @@ geometry_group!(reflect_normalize, "reflect_normalize", 8,
     glam: |a, b| a.reflect(b).normalize(),
     nalgebra: |a, b| (a - b * (2.0 * b.dot(a))).normalize(),
     ultraviolet: |a, b| a.reflected(b).normalized(),
+    vec3a: |a, b| a.reflect(b).normalize(),
 );
 
 /// The criterion group `normalize_zero_lane`: `normalize` on SoA packets each of which

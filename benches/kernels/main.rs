@@ -4,7 +4,7 @@
 //!
 //! Implementation names: `vecexpr` (expression templates), `vecexpr_fma` (the same with
 //! explicit `mul_add`), `eager` (every operator a temporary, `benches::eager`), `hand`
-//! (hand-written loop or formula), `glam_vec3`, `glam_vec3a`, `glam_vec4`, `nalgebra`,
+//! (hand-written loop or formula), `vecexpr_vec3a` (vecexpr's padded `Vec3A`), `glam_vec3`, `glam_vec3a`, `glam_vec4`, `nalgebra`,
 //! `ultraviolet` (`Vec3x8`, SoA packets of 8), `vecexpr_f32x8` and `vecexpr_f32x16`
 //! (vecexpr on the explicit lane types of `vecexpr::simd`, run through `Isa::dispatch`
 //! with AVX2 and AVX-512 whatever the build target; geometry kernels only). Size labels: `3` and `4` (one vector),
@@ -38,6 +38,7 @@ struct Batch {
     eager: Vec<Eager<f32, U3>>,
     glam3: Vec<glam::Vec3>,
     glam3a: Vec<glam::Vec3A>,
+    v3a: Vec<vecexpr::Vec3A>,
     na: Vec<nalgebra::Vector3<f32>>,
     p8: Vec<Vector<P8, U3>>,
     p16: Vec<Vector<P16, U3>>,
@@ -61,6 +62,7 @@ impl Batch {
             eager: arr.iter().map(|&v| Eager::from3(v)).collect(),
             glam3: arr.iter().map(|&v| glam::Vec3::from(v)).collect(),
             glam3a: arr.iter().map(|&v| glam::Vec3A::from(v)).collect(),
+            v3a: arr.iter().map(|&v| vecexpr::Vec3A::from(v)).collect(),
             na: arr.iter().map(|&v| nalgebra::Vector3::from(v)).collect(),
             p16: arr
                 .chunks_exact(16)

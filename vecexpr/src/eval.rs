@@ -3,8 +3,8 @@
 //! [`crate::assign`]).
 
 use crate::expr::{
-    Binary, Compare, Expr, Map, MaskAnd, MaskExpr, MaskNot, MaskOr, MulAdd, Operand, Owned, Select,
-    Splat, Unary,
+    Binary, Compare, Conform, Expr, Map, MaskAnd, MaskExpr, MaskNot, MaskOr, MulAdd, Operand,
+    Owned, SameDim, SameScalar, Select, Splat, Unary,
 };
 use crate::op::{BinaryOp, CompareOp, UnaryOp};
 use crate::packet::Packet;
@@ -99,6 +99,22 @@ impl<E: Expr, F: Fn(E::Scalar) -> E::Scalar> Expr for Map<E, F> {
     }
 }
 
+impl<E, T, N> Expr for Conform<E, T, N>
+where
+    E: Expr,
+    T: Scalar,
+    N: ArrayLength,
+    E::Scalar: SameScalar<T>,
+    E::Dim: SameDim<N>,
+{
+    type Scalar = T;
+    type Dim = N;
+    #[inline(always)]
+    fn coeff(&self, i: usize) -> T {
+        self.inner.coeff(i).same()
+    }
+}
+
 impl<L, R, O> MaskExpr for Compare<L, R, O>
 where
     L: Expr,
@@ -151,17 +167,22 @@ impl<M: Mask, N: ArrayLength> MaskExpr for &Vector<M, N> {
 
 // ----- operands ---------------------------------------------------------------------------
 
-/// Every expression node is an operand of its own scalar and dimension.
+/// Every expression node is an operand of any scalar and dimension at the impl level; the
+/// where-clauses then require its own to be the same ([`SameScalar`], [`SameDim`]), so a
+/// mismatch is reported by those traits' plain-word errors instead of as a type mismatch
+/// between typenum numbers.
 macro_rules! node_operand {
     ([$($g:tt)*] $ty:ty) => {
         impl<$($g)* T__: Scalar, N__: ArrayLength> Operand<T__, N__> for $ty
         where
-            $ty: Expr<Scalar = T__, Dim = N__>,
+            $ty: Expr,
+            <$ty as Expr>::Scalar: SameScalar<T__>,
+            <$ty as Expr>::Dim: SameDim<N__>,
         {
-            type Expr = Self;
+            type Expr = Conform<Self, T__, N__>;
             #[inline(always)]
-            fn into_expr(self) -> Self {
-                self
+            fn into_expr(self) -> Self::Expr {
+                Conform::new(self)
             }
         }
     };
@@ -175,13 +196,19 @@ node_operand!([E, O,] Unary<E, O>);
 node_operand!([A, B, C,] MulAdd<A, B, C>);
 node_operand!([M, A, B,] Select<M, A, B>);
 node_operand!([E, F,] Map<E, F>);
+node_operand!([E, T, N,] Conform<E, T, N>);
+node_operand!([] crate::Vec3A);
 
 /// An owned vector is moved into the tree as an [`Owned`] leaf.
-impl<T: Scalar, N: ArrayLength> Operand<T, N> for Vector<T, N> {
-    type Expr = Owned<T, N>;
+impl<T: Scalar, N: ArrayLength, T2: Scalar, N2: ArrayLength> Operand<T2, N2> for Vector<T, N>
+where
+    T: SameScalar<T2>,
+    N: SameDim<N2>,
+{
+    type Expr = Conform<Owned<T, N>, T2, N2>;
     #[inline(always)]
-    fn into_expr(self) -> Owned<T, N> {
-        Owned(self)
+    fn into_expr(self) -> Self::Expr {
+        Conform::new(Owned(self))
     }
 }
 

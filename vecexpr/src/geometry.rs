@@ -2,11 +2,10 @@
 //! `reflect` and `refract` of [`Expr`]. Each takes its inputs already evaluated, so a
 //! child expression is computed once however often the formula uses it.
 
-use crate::expr::Expr;
+use crate::expr::{Dim3, Expr};
 use crate::scalar::{Mask, Real, Scalar};
 use crate::vector::Vector;
 use generic_array::ArrayLength;
-use typenum::U3;
 
 /// $v / \lVert v \rVert$, with the zero vector mapped to itself and no spurious
 /// overflow or underflow (see [`Expr::normalize`]).
@@ -66,13 +65,15 @@ fn rescale<T: Scalar, N: ArrayLength>(v: Vector<T, N>, l2: T) -> Vector<T, N> {
 
 /// $a \times b = (a_y b_z - a_z b_y,\; a_z b_x - a_x b_z,\; a_x b_y - a_y b_x)$.
 #[inline(always)]
-pub(crate) fn cross<T: Scalar>(a: Vector<T, U3>, b: Vector<T, U3>) -> Vector<T, U3> {
+pub(crate) fn cross<T: Scalar, N: Dim3>(a: Vector<T, N>, b: Vector<T, N>) -> Vector<T, N> {
     let (a, b) = (a.as_slice(), b.as_slice());
-    Vector::from([
+    let c = [
         a[1] * b[2] - a[2] * b[1],
         a[2] * b[0] - a[0] * b[2],
         a[0] * b[1] - a[1] * b[0],
-    ])
+    ];
+    // `Dim3` holds only for U3, so `c` fills the vector exactly.
+    Vector::from_fn(|i| c[i])
 }
 
 /// $R = I - 2 N (N \cdot I)$.

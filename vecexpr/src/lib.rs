@@ -75,21 +75,24 @@ pub mod assign;
 mod eval;
 pub mod expr;
 mod geometry;
+pub mod guide;
 mod meta;
 pub mod op;
 mod ops;
 mod packet;
 mod scalar;
 pub mod simd;
+mod vec3a;
 mod vector;
 
 pub use expr::{
-    select, Binary, Compare, Expr, Map, MaskAnd, MaskExpr, MaskNot, MaskOr, MulAdd, Operand, Owned,
-    Refracted, Select, Splat, Unary,
+    select, Binary, Compare, Conform, Dim3, Expr, ExprOf, Map, MaskAnd, MaskExpr, MaskNot, MaskOr,
+    MulAdd, Operand, Owned, Refracted, SameDim, SameScalar, Select, Splat, Unary,
 };
 pub use meta::{powi, Pow};
 pub use packet::{Packet, PacketMask};
 pub use scalar::{LaneBits, Mask, Real, Scalar};
+pub use vec3a::Vec3A;
 pub use vector::{approx_eq_scalar, vec2, vec3, vec4, LengthMismatch, Vector};
 
 /// A 3-vector of `T`.
@@ -106,3 +109,24 @@ pub type F32x4 = Packet<f32, typenum::U4>;
 pub type F64x4 = Packet<f64, typenum::U4>;
 /// Eight `f64` lanes (one AVX-512 register).
 pub type F64x8 = Packet<f64, typenum::U8>;
+
+/// The names most code needs, for `use vecexpr::prelude::*`.
+///
+/// # Examples
+/// ```
+/// use vecexpr::prelude::*;
+/// fn sum_of<T: Scalar, N: ArrayLength>(v: &Vector<T, N>) -> T {
+///     v.sum()
+/// }
+/// assert_eq!(sum_of(&vec3(1.0f32, 2.0, 3.0)), 6.0);
+/// let a = Vec3A::new(1.0, 0.0, 0.0);
+/// assert_eq!(a.cross(Vec3A::Y), Vec3A::Z);
+/// ```
+pub mod prelude {
+    pub use crate::generic_array::ArrayLength;
+    pub use crate::typenum::{U2, U3, U4};
+    pub use crate::{
+        select, vec2, vec3, vec4, Expr, ExprOf, Mask, MaskExpr, Operand, Packet, Real, Scalar,
+        Vec3, Vec3A, Vec4, Vector,
+    };
+}

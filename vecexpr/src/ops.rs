@@ -6,7 +6,7 @@
 //! `U3 + U4` fails to compile at the operator. A scalar on the left (`2.0 * &a`) is
 //! supported for `f32`, `f64` and packets.
 
-use crate::expr::{Binary, Expr, Map, MulAdd, Operand, Owned, Select, Splat, Unary};
+use crate::expr::{Binary, Conform, Expr, Map, MulAdd, Operand, Owned, Select, Splat, Unary};
 use crate::op::{AddOp, DivOp, MulOp, NegOp, SubOp};
 use crate::packet::Packet;
 use crate::scalar::{Real, Scalar};
@@ -113,6 +113,7 @@ binary_ops!([E, O,] Unary<E, O> => Unary<E, O>, |s| s);
 binary_ops!([A, B, C,] MulAdd<A, B, C> => MulAdd<A, B, C>, |s| s);
 binary_ops!([M, A, B,] Select<M, A, B> => Select<M, A, B>, |s| s);
 binary_ops!([E, F,] Map<E, F> => Map<E, F>, |s| s);
+binary_ops!([E, T, N,] Conform<E, T, N> => Conform<E, T, N>, |s| s);
 
 // ----- in-place updates: one loop, no temporary ---------------------------------------------
 
@@ -131,3 +132,19 @@ assign_op!(AddAssign, add_assign, +);
 assign_op!(SubAssign, sub_assign, -);
 assign_op!(MulAssign, mul_assign, *);
 assign_op!(DivAssign, div_assign, /);
+
+// `&Vec3A` builds lazy trees like `&Vector<f32, U3>` (by value its operators are eager,
+// in `vec3a.rs`).
+binary_ops!(@one ['a,] &'a crate::Vec3A => crate::Vec3A, |s| *s, Add, add, AddOp);
+binary_ops!(@one ['a,] &'a crate::Vec3A => crate::Vec3A, |s| *s, Sub, sub, SubOp);
+binary_ops!(@one ['a,] &'a crate::Vec3A => crate::Vec3A, |s| *s, Mul, mul, MulOp);
+binary_ops!(@one ['a,] &'a crate::Vec3A => crate::Vec3A, |s| *s, Div, div, DivOp);
+scalar_left!(['a,] &'a crate::Vec3A => crate::Vec3A, |s| *s, f32);
+
+impl Neg for &crate::Vec3A {
+    type Output = Unary<crate::Vec3A, NegOp>;
+    #[inline(always)]
+    fn neg(self) -> Self::Output {
+        Unary::new(*self)
+    }
+}

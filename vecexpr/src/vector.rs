@@ -399,6 +399,28 @@ impl<T: fmt::Debug, N: ArrayLength> fmt::Debug for Vector<T, N> {
     }
 }
 
+impl<T: fmt::Display, N: ArrayLength> fmt::Display for Vector<T, N> {
+    /// `[x, y, z]`, every element formatted with the formatter's options (`{:.2}` gives
+    /// two decimals each).
+    ///
+    /// # Examples
+    /// ```
+    /// let v = vecexpr::vec3(1.0f32, 0.5, -2.0);
+    /// assert_eq!(format!("{v}"), "[1, 0.5, -2]");
+    /// assert_eq!(format!("{v:.2}"), "[1.00, 0.50, -2.00]");
+    /// ```
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("[")?;
+        for (i, x) in self.data.iter().enumerate() {
+            if i > 0 {
+                f.write_str(", ")?;
+            }
+            fmt::Display::fmt(x, f)?;
+        }
+        f.write_str("]")
+    }
+}
+
 impl<T, N: ArrayLength> Index<usize> for Vector<T, N> {
     type Output = T;
     #[inline(always)]

@@ -7,18 +7,18 @@
 cross_f32x3:
 	vmovss	xmm0, dword ptr [rdi]
 	vmovss	xmm1, dword ptr [rsi]
-	vmovsd	xmm2, qword ptr [rdi + 4]
-	vmovsd	xmm3, qword ptr [rsi + 4]
-	vmovshdup	xmm4, xmm3
-	vinsertps	xmm4, xmm4, xmm1, 16
-	vmulps	xmm4, xmm2, xmm4
+	vmovsd	xmm2, qword ptr [rsi + 4]
+	vmulss	xmm3, xmm0, xmm2
+	vmovsd	xmm4, qword ptr [rdi + 4]
+	vmulss	xmm5, xmm4, xmm1
+	vsubss	xmm3, xmm3, xmm5
 	vmovshdup	xmm5, xmm2
-	vinsertps	xmm5, xmm5, xmm0, 16
-	vmulps	xmm5, xmm5, xmm3
-	vsubps	xmm4, xmm4, xmm5
-	vmulss	xmm0, xmm0, xmm3
-	vmulss	xmm1, xmm2, xmm1
-	vsubss	xmm0, xmm0, xmm1
-	vmovlps	qword ptr [rdx], xmm4
-	vmovss	dword ptr [rdx + 8], xmm0
+	vinsertps	xmm1, xmm5, xmm1, 16
+	vmulps	xmm1, xmm4, xmm1
+	vmovshdup	xmm4, xmm4
+	vinsertps	xmm0, xmm4, xmm0, 16
+	vmulps	xmm0, xmm0, xmm2
+	vsubps	xmm0, xmm1, xmm0
+	vmovlps	qword ptr [rdx], xmm0
+	vmovss	dword ptr [rdx + 8], xmm3
 	ret

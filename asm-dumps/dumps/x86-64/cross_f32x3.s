@@ -7,20 +7,20 @@
 cross_f32x3:
 	movss	xmm0, dword ptr [rdi]
 	movss	xmm1, dword ptr [rsi]
-	movsd	xmm2, qword ptr [rdi + 4]
-	movsd	xmm3, qword ptr [rsi + 4]
-	movaps	xmm4, xmm1
-	shufps	xmm4, xmm3, 212
-	shufps	xmm4, xmm3, 82
-	mulps	xmm4, xmm2
-	movaps	xmm5, xmm0
-	shufps	xmm5, xmm2, 212
-	shufps	xmm5, xmm2, 82
-	mulps	xmm5, xmm3
-	subps	xmm4, xmm5
-	mulss	xmm0, xmm3
-	mulss	xmm2, xmm1
-	subss	xmm0, xmm2
-	movlps	qword ptr [rdx], xmm4
-	movss	dword ptr [rdx + 8], xmm0
+	movsd	xmm2, qword ptr [rsi + 4]
+	movaps	xmm3, xmm0
+	mulss	xmm3, xmm2
+	movsd	xmm4, qword ptr [rdi + 4]
+	movaps	xmm5, xmm4
+	mulss	xmm5, xmm1
+	subss	xmm3, xmm5
+	shufps	xmm1, xmm2, 212
+	shufps	xmm1, xmm2, 82
+	mulps	xmm1, xmm4
+	shufps	xmm0, xmm4, 212
+	shufps	xmm0, xmm4, 82
+	mulps	xmm0, xmm2
+	subps	xmm1, xmm0
+	movlps	qword ptr [rdx], xmm1
+	movss	dword ptr [rdx + 8], xmm3
 	ret

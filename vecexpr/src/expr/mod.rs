@@ -103,6 +103,22 @@ pub trait Expr: Sized {
             c: c.into_expr(),
         }
     }
+    /// This expression wrapped in a node that has the operators `+ - * /`, for code
+    /// generic over `E: Expr` (or [`ExprOf`]), where the compiler cannot see the
+    /// operators of `E` itself. It reads `self` unchanged and costs nothing.
+    ///
+    /// # Examples
+    /// ```
+    /// use vecexpr::{vec3, Expr, ExprOf, Scalar};
+    /// fn double_plus_one<T: Scalar, E: ExprOf<T>>(e: E) -> vecexpr::Vector<T, E::Dim> {
+    ///     (e.ops() * T::splat_f64(2.0) + T::one()).eval()
+    /// }
+    /// assert_eq!(double_plus_one(&vec3(1.0f32, 2.0, 3.0)), vec3(3.0, 5.0, 7.0));
+    /// ```
+    #[inline(always)]
+    fn ops(self) -> Conform<Self, Self::Scalar, Self::Dim> {
+        Conform::new(self)
+    }
     /// Multiplies every element by the scalar `s`, lazily (`self * s` for generic code
     /// where the scalar type is a type parameter).
     #[inline(always)]
@@ -244,10 +260,10 @@ pub trait Expr: Sized {
     /// assert_eq!(vec3(1.0f32, 0.0, 0.0).cross(&vec3(0.0, 1.0, 0.0)), vec3(0.0, 0.0, 1.0));
     /// ```
     #[inline(always)]
-    fn cross<R>(self, rhs: R) -> Vector<Self::Scalar, U3>
+    fn cross<R>(self, rhs: R) -> Vector<Self::Scalar, Self::Dim>
     where
-        Self: Expr<Dim = U3>,
-        R: Operand<Self::Scalar, U3>,
+        Self::Dim: Dim3,
+        R: Operand<Self::Scalar, Self::Dim>,
     {
         crate::geometry::cross(self.eval(), rhs.into_expr().eval())
     }
@@ -310,11 +326,16 @@ pub trait Expr: Sized {
 /// dimension `N`: another expression of the same scalar and dimension, an owned or
 /// borrowed [`Vector`], or a single scalar (broadcast to every element).
 ///
-/// A dimension or scalar-type mismatch fails here, at the operator, at compile time.
+/// Vectors and expressions are operands of any scalar and dimension at the level of the
+/// impl; their own scalar and dimension are then checked by [`SameScalar`] and
+/// [`SameDim`], whose errors say in plain words which of the two differs. What is left
+/// for this trait's own error is something that is neither a vector expression nor a `T`:
+/// most often a float literal in code generic over `T`.
 #[diagnostic::on_unimplemented(
-    message = "`{Self}` is not an operand for a vecexpr expression of scalar `{T}` and dimension `{N}`",
-    label = "dimension or scalar type does not match the other operand",
-    note = "both sides of a vecexpr operator must have the same scalar type and the same dimension (U3 with U3, f32 with f32); use `extend`/`truncate` to change a dimension"
+    message = "`{Self}` is not a `{T}` or an expression of `{T}`: in code generic over the scalar, write a constant as `T::splat_f64(0.5)`, not `0.5`",
+    label = "not an operand of an expression of scalar `{T}`",
+    note = "a float literal has a concrete type (`f32` or `f64`), never a type parameter `T`; `Scalar::splat_f64` (or `T::one()`, `T::zero()`) builds a constant of any scalar, packets included",
+    note = "with concrete types, the literal must have the vector's scalar type: `&v * 2.0f32` for `f32` vectors"
 )]
 pub trait Operand<T: Scalar, N: ArrayLength> {
     /// The expression this operand becomes.
@@ -322,6 +343,85 @@ pub trait Operand<T: Scalar, N: ArrayLength> {
     /// Converts into the expression.
     fn into_expr(self) -> Self::Expr;
 }
+
+/// Any vector expression of scalar `T` that can also stand as an operand: the one bound
+/// a function generic over expressions needs (see [`crate::guide`]).
+///
+/// Implemented for every [`Expr`] with scalar `T` that is an [`Operand`] of its own
+/// scalar and dimension: borrowed and owned vectors, [`crate::Vec3A`], every node.
+/// Reach its operators through [`Expr::ops`].
+///
+/// # Examples
+/// ```
+/// use vecexpr::{vec3, Expr, ExprOf, Real};
+/// fn rms<T: Real, E: ExprOf<T>>(e: E) -> T {
+///     use vecexpr::typenum::Unsigned;
+///     (e.length_squared() / T::from_f64(E::Dim::USIZE as f64)).sqrt()
+/// }
+/// assert_eq!(rms(&vec3(2.0f32, 2.0, 2.0)), 2.0);
+/// assert_eq!(rms(&vec3(1.0f64, 2.0, 3.0) * 2.0), (56.0f64 / 3.0).sqrt());
+/// ```
+pub trait ExprOf<T: Scalar>: Expr<Scalar = T> + Operand<T, <Self as Expr>::Dim> {}
+
+impl<T: Scalar, E> ExprOf<T> for E where E: Expr<Scalar = T> + Operand<T, <E as Expr>::Dim> {}
+
+/// Proof that a dimension `Self` equals `N`: implemented only for `N` itself.
+///
+/// Every vector and expression operand requires it of its own dimension, so `U3 + U4`
+/// fails here with an error that says so.
+///
+/// ```compile_fail
+/// use vecexpr::{Vector, Expr, typenum::{U3, U4}};
+/// let (a, b) = (Vector::<f32, U3>::splat(1.0), Vector::<f32, U4>::splat(1.0));
+/// let c = (&a + &b).eval();
+/// ```
+#[diagnostic::on_unimplemented(
+    message = "dimension mismatch: both operands must have the same dimension; change one with `extend`, `truncate` or `resize_down`",
+    label = "this operand's dimension differs from the other side's",
+    note = "the dimensions, as typenum numbers, are `{Self}` and `{N}` (`UInt<UInt<UTerm, B1>, B1>` is U3, `UInt<UInt<UInt<UTerm, B1>, B0>, B0>` is U4)"
+)]
+pub trait SameDim<N> {}
+
+impl<N: ArrayLength> SameDim<N> for N {}
+
+/// Proof that a scalar type `Self` equals `T`: implemented only for `T` itself, with the
+/// (identity) conversion that lets an operand's elements be read as `T`.
+///
+/// ```compile_fail
+/// use vecexpr::{vec3, Expr};
+/// let c = (&vec3(1.0f32, 2.0, 3.0) + &vec3(1.0f64, 2.0, 3.0)).eval();
+/// ```
+#[diagnostic::on_unimplemented(
+    message = "scalar type mismatch: an expression of `{T}` cannot take an operand of `{Self}`; convert it first, e.g. `Vector::from_fn(|i| v[i] as {T})`",
+    label = "this operand has elements of `{Self}`, the other side `{T}`",
+    note = "vecexpr never converts between scalar types implicitly (f32 with f32, f64 with f64, a packet with the same packet)"
+)]
+pub trait SameScalar<T> {
+    /// The value as `T` (the identity).
+    fn same(self) -> T;
+}
+
+impl<T: Scalar> SameScalar<T> for T {
+    #[inline(always)]
+    fn same(self) -> T {
+        self
+    }
+}
+
+/// Proof that a dimension is 3, for [`Expr::cross`].
+///
+/// ```compile_fail
+/// use vecexpr::{vec4, Expr};
+/// let c = vec4(1.0f32, 0.0, 0.0, 0.0).cross(&vec4(0.0f32, 1.0, 0.0, 0.0));
+/// ```
+#[diagnostic::on_unimplemented(
+    message = "`cross` is defined for 3-vectors only; `truncate()` a 4-vector to 3 first, or use the 2-D `perp_dot`-style `a[0] * b[1] - a[1] * b[0]`",
+    label = "this expression's dimension is `{Self}`, not U3",
+    note = "`UInt<UInt<UTerm, B1>, B1>` is U3"
+)]
+pub trait Dim3: ArrayLength {}
+
+impl Dim3 for U3 {}
 
 /// The result of [`Expr::refract_masked`]: the refracted directions and the mask of
 /// lanes that refracted (false where totally internally reflected).
@@ -394,6 +494,27 @@ impl<T, N> Splat<T, N> {
 pub struct Owned<T, N: ArrayLength>(pub Vector<T, N>);
 
 impl<T: Copy, N: ArrayLength> Copy for Owned<T, N> where Vector<T, N>: Copy {}
+
+/// An operand whose scalar and dimension were checked to be `T` and `N`
+/// ([`SameScalar`], [`SameDim`]): reads the inner expression unchanged. Operators wrap
+/// their right operand in it; it costs nothing after inlining.
+#[must_use = "expressions are lazy: call .eval() or assign them to compute"]
+#[derive(Clone, Copy, Debug)]
+pub struct Conform<E, T, N> {
+    pub(crate) inner: E,
+    pub(crate) ty: PhantomData<(T, N)>,
+}
+
+impl<E, T, N> Conform<E, T, N> {
+    /// Wraps `inner`.
+    #[inline(always)]
+    pub fn new(inner: E) -> Self {
+        Self {
+            inner,
+            ty: PhantomData,
+        }
+    }
+}
 
 /// An element-wise binary operation `O(lhs, rhs)`: `+ - * /`, `min`, `max`.
 #[must_use = "expressions are lazy: call .eval() or assign them to compute"]

@@ -61,6 +61,50 @@ impl F32x4 {
     }
 }
 
+/// Register-level helpers of the padded 3-vector [`crate::Vec3A`]: lane shuffles and the
+/// horizontal sums that keep the scalar summation order.
+impl F32x4 {
+    /// From a 16-byte aligned array (one aligned load).
+    #[inline(always)]
+    pub(crate) fn load_aligned(a: &crate::vec3a::Lanes4) -> Self {
+        // SAFETY: SSE baseline; `Lanes4` is four floats aligned to 16 bytes.
+        Self(unsafe { _mm_load_ps(a.0.as_ptr()) })
+    }
+
+    /// Into a 16-byte aligned array (one aligned store).
+    #[inline(always)]
+    pub(crate) fn store_aligned(self) -> crate::vec3a::Lanes4 {
+        let mut out = crate::vec3a::Lanes4([0.0; 4]);
+        // SAFETY: SSE baseline; `Lanes4` is four floats aligned to 16 bytes.
+        unsafe { _mm_store_ps(out.0.as_mut_ptr(), self.0) };
+        out
+    }
+
+    /// Lanes `[I0, I1, I2, I3]` of `self` (`IMM` packs the four 2-bit indices, lane 0 lowest).
+    #[inline(always)]
+    pub(crate) fn shuffle<const IMM: i32>(self) -> Self {
+        // SAFETY: SSE baseline.
+        Self(unsafe { _mm_shuffle_ps::<IMM>(self.0, self.0) })
+    }
+
+    /// $(x_0 + x_1) + x_2$ in lanes 0 and 1 (the left-to-right order of a scalar sum;
+    /// lane 3 never enters), other lanes unspecified.
+    #[inline(always)]
+    pub(crate) fn hsum3_low(self) -> Self {
+        // x1 in every lane, then x2 in every lane.
+        let y = self.shuffle::<0b01_01_01_01>();
+        let z = self.shuffle::<0b10_10_10_10>();
+        self.add_(y).add_(z)
+    }
+
+    /// The bits of lane 0.
+    #[inline(always)]
+    pub(crate) fn bits0(self) -> u32 {
+        // SAFETY: SSE2 baseline; a bit cast and a move to a general register.
+        unsafe { _mm_cvtsi128_si32(_mm_castps_si128(self.0)) as u32 }
+    }
+}
+
 lane_boilerplate!(F32x4, M32x4, 4);
 
 impl Mask for M32x4 {
