@@ -1285,6 +1285,19 @@ fn f32_and_f64_agree_on_the_spd_scenes() {
         let total = (n * n) as usize;
         let frac = diff_interior as f64 / interior.max(1) as f64;
         worst = worst.max(frac);
+        // ROBUSTNESS.md's figures, at 64 x 64 (CI) and 512 x 512 alike: at most 0.03% of
+        // the non-silhouette pixels, except teapot-s1 (interpenetrating coarse patches)
+        // at most 0.8%.
+        let name = path.file_name().unwrap().to_string_lossy().into_owned();
+        let bound = if name == "teapot-s1.nff" {
+            0.008
+        } else {
+            0.0003
+        };
+        assert!(
+            frac <= bound,
+            "{name}: {frac} of the non-silhouette pixels differ"
+        );
         println!(
             "f32 vs f64 {} at {size}x{size}: {diff_interior} of {interior} non-silhouette \
              pixels differ by > 1/255 ({:.3}%); {diff_all} of {total} in all ({:.3}%)",
@@ -1293,7 +1306,7 @@ fn f32_and_f64_agree_on_the_spd_scenes() {
             100.0 * diff_all as f64 / total as f64
         );
     }
-    assert!(worst <= 0.05, "worst non-silhouette fraction {worst}");
+    assert!(worst <= 0.008, "worst non-silhouette fraction {worst}");
 }
 
 /// Shadow rays from the eye-ray hits of every SPD size-1 scene (front faces, lights the
