@@ -27,6 +27,9 @@
 //! feature it is about (an off-peak highlight of each exponent, a reflected checker, a
 //! refracted checker) is among them.
 
+// Per-channel sums over several arrays read best indexed.
+#![allow(clippy::needless_range_loop)]
+
 use tracer::scene::desc::MaterialDesc;
 use tracer::{render, Image, Scene, SceneBuilder, Settings};
 
@@ -203,7 +206,7 @@ fn hit_prim(prim: &Prim, o: P3, d: P3, t_max: f64) -> Option<f64> {
                 return None;
             }
             let t = dot(*n, sub(v[0], o)) / denom;
-            if !(t > T_EPS && t < t_max) {
+            if t.is_nan() || t <= T_EPS || t >= t_max {
                 return None;
             }
             let p = add(o, mul(d, t));
