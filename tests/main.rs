@@ -12,7 +12,13 @@ macro_rules! suites {
     };
 }
 
-suites!(compile_fail, vecexpr_big, vecexpr_edges, vecexpr_layout, vecexpr_props);
+suites!(
+    compile_fail,
+    vecexpr_big,
+    vecexpr_edges,
+    vecexpr_layout,
+    vecexpr_props
+);
 
 /// Files of this directory that are not test modules: the library and the
 /// property-test glue that `vecexpr_props` includes.

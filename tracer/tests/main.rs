@@ -26,6 +26,7 @@ suites!(
     scene_obj,
     scene_shared,
     schedulers,
+    shading_reference,
 );
 
 /// Cargo does not discover test files here on its own (`autotests = false`): a new

@@ -56,6 +56,17 @@ fn every_shipped_scene_renders_finite_in_both_precisions() {
     }
 }
 
+/// The same image bit for bit: `to_bits` per channel (+0 and -0 differ, a NaN equals
+/// itself), which `==` on floats is not.
+fn same_bits(a: &Image, b: &Image) -> bool {
+    (a.width, a.height) == (b.width, b.height)
+        && a.pixels
+            .iter()
+            .flatten()
+            .zip(b.pixels.iter().flatten())
+            .all(|(x, y)| x.to_bits() == y.to_bits())
+}
+
 #[test]
 fn thread_count_does_not_change_a_bit() {
     for name in ["balls-s1.nff", "gears-s1.nff", "showcase.nff"] {
@@ -69,7 +80,7 @@ fn thread_count_does_not_change_a_bit() {
         s.threads = Some(3);
         let (c, _) = render_with_stats(&scene, &s);
         assert!(
-            a == b && b == c,
+            same_bits(&a, &b) && same_bits(&b, &c),
             "{name}: images differ between thread counts"
         );
         assert_eq!(sa.rays, sb.rays, "{name}: ray counts differ");
@@ -116,46 +127,122 @@ fn spd_mode_counts_corner_rays() {
     assert!(st.rays.shadow > 0);
 }
 
-/// Per-channel comparison against a checked-in PNG. Regenerate with
-/// `UPDATE_GOLDEN=1 cargo test -p tracer --test integration render::golden` after
-/// checking the new images by eye.
+/// The golden scenes, rendered at 128 x 128 in `f32` with the default settings.
+const GOLDEN: [&str; 8] = [
+    "balls-s1",
+    "gears-s1",
+    "mount-s1",
+    "rings-s1",
+    "teapot-s1",
+    "tetra-s1",
+    "tree-s1",
+    "showcase",
+];
+
+/// Is this run asked to rewrite the goldens? Only `UPDATE_GOLDEN=1` does; any other
+/// value is a mistake (`0`, `true`, an empty string) and fails rather than silently
+/// rewriting or silently checking.
+fn update_golden() -> bool {
+    match std::env::var_os("UPDATE_GOLDEN") {
+        None => false,
+        Some(v) if v == "1" => true,
+        Some(v) => panic!("UPDATE_GOLDEN must be exactly 1 to rewrite the goldens, not {v:?}"),
+    }
+}
+
+/// A review image of `ours` against `theirs` (same size): each channel's absolute
+/// 8-bit difference times 32, so a one-step difference shows as 32/255 and anything
+/// from eight steps up as full intensity.
+fn diff_image(ours: &[u8], theirs: &[u8], width: u32, height: u32) -> Image {
+    let pixels = ours
+        .chunks(3)
+        .zip(theirs.chunks(3))
+        .map(|(a, b)| {
+            core::array::from_fn(|k| (f32::from(a[k].abs_diff(b[k])) * 32.0 / 255.0).min(1.0))
+        })
+        .collect();
+    Image {
+        width,
+        height,
+        pixels,
+    }
+}
+
+/// Where diff images go: the build's scratch directory for integration tests.
+fn diff_dir() -> PathBuf {
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join("golden-diff");
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// The golden images against a fresh render, 8-bit channel by channel.
+///
+/// Tolerance: renders are deterministic (the same image bit for bit for any thread
+/// count, scheduler, tile, packet ISA and effect set, tested in `schedulers.rs`,
+/// `packets.rs`, `effects.rs` and `cli_invariance.rs`), so on the platform that wrote
+/// them the goldens match exactly. Elsewhere only the math library may differ (`powf`
+/// in the Phong term is not correctly rounded, so a platform's `pow` may differ by an
+/// ulp): that moves an 8-bit value only if the linear value lies within about 1e-7 of a
+/// rounding boundary, so at most one step, on a handful of channels. Accepted: no
+/// channel more than one step off and at most 1 in 10,000 channels one step off (4 of
+/// the 49,152 in a 128 x 128 image); a uniform change of 1/255 moves most channels and
+/// fails.
+///
+/// Regenerate with exactly `UPDATE_GOLDEN=1 cargo test -p tracer --test integration render::golden`
+/// (any other value fails): it rewrites the PNGs and writes, for every image that
+/// changed, `<name>.png` in `target/tmp/golden-diff/` (the difference times 32) for
+/// review before committing. A failing comparison writes the same diff image.
 #[test]
 fn golden_images() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/golden");
-    let update = std::env::var_os("UPDATE_GOLDEN").is_some();
-    for name in [
-        "balls-s1",
-        "gears-s1",
-        "mount-s1",
-        "rings-s1",
-        "teapot-s1",
-        "tetra-s1",
-        "tree-s1",
-        "showcase",
-    ] {
+    let update = update_golden();
+    let mut failures = Vec::new();
+    for name in GOLDEN {
         let desc = tracer::scene::load(&scenes_dir().join(format!("{name}.nff"))).unwrap();
-        let scene = Scene::<f32>::from_desc(&desc, &AccelOptions::default());
+        let scene = Scene::<f32>::from_desc(&desc, &Default::default());
         let img = render(&scene, &small(128));
         let path = dir.join(format!("{name}.png"));
+        let golden = Image::read_png(&path);
         if update {
             img.save(&path).unwrap();
-            continue;
         }
-        let golden = Image::read_png(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let golden = match golden {
+            Ok(g) => g,
+            Err(e) if update => {
+                println!("{name}: new golden ({e})");
+                continue;
+            }
+            Err(e) => panic!("{}: {e}", path.display()),
+        };
         assert_eq!((golden.width, golden.height), (img.width, img.height));
         let ours = img.to_rgb8();
         let theirs = golden.to_rgb8();
-        let far = ours
-            .iter()
-            .zip(&theirs)
-            .filter(|(a, b)| a.abs_diff(**b) > 2)
-            .count();
+        let (mut one, mut far) = (0, 0);
+        for (a, b) in ours.iter().zip(&theirs) {
+            match a.abs_diff(*b) {
+                0 => {}
+                1 => one += 1,
+                _ => far += 1,
+            }
+        }
+        if one + far > 0 {
+            let diff = diff_dir().join(format!("{name}.png"));
+            diff_image(&ours, &theirs, img.width, img.height)
+                .save(&diff)
+                .unwrap();
+            println!(
+                "{name}: {far} channels more than one step off, {one} one step; diff image {}",
+                diff.display()
+            );
+        }
         let total = ours.len();
-        assert!(
-            far * 1000 <= total,
-            "{name}: {far} of {total} channels differ by more than 2/255 from the golden image"
-        );
+        if !update && (far > 0 || one * 10_000 > total) {
+            failures.push(format!(
+                "{name}: {far} channels > 1/255 off, {one} of {total} by 1/255"
+            ));
+        }
     }
+    assert!(failures.is_empty(), "golden images differ: {failures:?}");
 }
 
 // ----- shading terms against analytic values ------------------------------------------------

@@ -197,7 +197,7 @@ fn material(kd: f64, ks: f64, t: f64, ior: f64, color: P3) -> MaterialDesc {
 /// the origin and at it: 10^6 random rays from random inner points, plus rays from the
 /// centre and from random inner points aimed exactly at every vertex and edge midpoint.
 /// Watertight (Woop et al. 2013) with the conservative BVH: zero escapes. Möller–Trumbore
-/// on the same rays: counted and printed.
+/// on the same rays: the counts ROBUSTNESS.md reports.
 #[test]
 fn closed_mesh_has_no_escapes_far_from_and_at_the_origin() {
     type T = f32;
@@ -260,6 +260,14 @@ fn closed_mesh_has_no_escapes_far_from_and_at_the_origin() {
             100.0 * esc_mt as f64 / n as f64
         );
         assert_eq!(esc_wt, 0, "watertight test leaked at {center:?}");
+        // ROBUSTNESS.md's table: 1,035,844 rays per centre; Möller–Trumbore loses none
+        // far from the origin and 4,073 at it, all among the aimed rays. The rays and
+        // both kernels are deterministic (seeded, plain IEEE f32), so the counts are
+        // exact.
+        assert_eq!(n, 1_035_844);
+        let want_mt = if center[0] == 0.0 { 4_073 } else { 0 };
+        assert_eq!(esc_mt, want_mt, "Möller–Trumbore escapes at {center:?}");
+        assert_eq!(esc_mt_aimed, esc_mt, "escapes outside the aimed rays");
     }
 }
 
@@ -1148,6 +1156,77 @@ fn invalid_and_parallel_rays_are_harmless() {
     invalid_rays::<f64>();
 }
 
+/// ROBUSTNESS.md's claim about the cost of invalid rays, asserted: rejected before
+/// traversal, they cost less than valid rays (the example `invalid_rays` measures the
+/// table; Embree's criterion is at most 2.5 times). Eye rays of teapot-s1 and the same
+/// rays made invalid in five ways, timed in 9 interleaved rounds; medians. The measured
+/// ratio is 0.02 to 0.08, so a ratio of 1 leaves a wide margin for a loaded machine.
+#[test]
+fn invalid_rays_cost_less_than_valid_ones() {
+    use std::hint::black_box;
+    use std::time::Instant;
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/teapot-s1.nff");
+    let scene = Scene::<f32>::from_desc(
+        &tracer::scene::load(&path).unwrap(),
+        &AccelOptions::default(),
+    );
+    let cam = scene.camera_for(256, 256);
+    let mut rng = Rng(17);
+    let valid: Vec<Ray<f32>> = (0..20_000)
+        .map(|_| {
+            let (x, y) = (rng.range(0.0, 256.0), rng.range(0.0, 256.0));
+            Ray::new(cam.position, cam.direction(x as f32, y as f32))
+        })
+        .collect();
+    let invalid: Vec<Ray<f32>> = valid
+        .iter()
+        .enumerate()
+        .map(|(i, r)| {
+            let mut r = *r;
+            match i % 5 {
+                0 => r.origin[i % 3] = f32::NAN,
+                1 => r.origin[i % 3] = f32::INFINITY,
+                2 => r.dir[i % 3] = f32::NEG_INFINITY,
+                3 => r.dir = vec3(0.0, 0.0, 0.0),
+                _ => r.t_max = f32::NAN,
+            }
+            r
+        })
+        .collect();
+    assert!(invalid.iter().all(|r| scene.intersect(r).is_none()));
+    let time = |rays: &[Ray<f32>], any: bool| {
+        let t = Instant::now();
+        let mut k = 0usize;
+        for r in rays {
+            k += usize::from(if any {
+                scene.geometry.occluded(black_box(r))
+            } else {
+                scene.intersect(black_box(r)).is_some()
+            });
+        }
+        black_box(k);
+        t.elapsed().as_secs_f64()
+    };
+    let mut m: [Vec<f64>; 4] = Default::default();
+    for round in 0..9 {
+        for k in 0..4 {
+            let k = if round % 2 == 0 { k } else { 3 - k };
+            m[k].push(time(if k % 2 == 0 { &valid } else { &invalid }, k >= 2));
+        }
+    }
+    let [a, b, c, d] = m.map(|mut v| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    });
+    println!(
+        "invalid/valid: intersect {:.3}, occluded {:.3}",
+        b / a,
+        d / c
+    );
+    assert!(b < a, "intersect: invalid {b} s, valid {a} s");
+    assert!(d < c, "occluded: invalid {d} s, valid {c} s");
+}
+
 // ----- f32 against f64 --------------------------------------------------------------------
 
 /// Per pixel, the primitive hit by the eye ray through its centre (`u32::MAX`: none).
@@ -1222,6 +1301,19 @@ fn f32_and_f64_agree_on_the_spd_scenes() {
         let total = (n * n) as usize;
         let frac = diff_interior as f64 / interior.max(1) as f64;
         worst = worst.max(frac);
+        // ROBUSTNESS.md's figures, at 64 x 64 (CI) and 512 x 512 alike: at most 0.03% of
+        // the non-silhouette pixels, except teapot-s1 (interpenetrating coarse patches)
+        // at most 0.8%.
+        let name = path.file_name().unwrap().to_string_lossy().into_owned();
+        let bound = if name == "teapot-s1.nff" {
+            0.008
+        } else {
+            0.0003
+        };
+        assert!(
+            frac <= bound,
+            "{name}: {frac} of the non-silhouette pixels differ"
+        );
         println!(
             "f32 vs f64 {} at {size}x{size}: {diff_interior} of {interior} non-silhouette \
              pixels differ by > 1/255 ({:.3}%); {diff_all} of {total} in all ({:.3}%)",
@@ -1230,7 +1322,7 @@ fn f32_and_f64_agree_on_the_spd_scenes() {
             100.0 * diff_all as f64 / total as f64
         );
     }
-    assert!(worst <= 0.05, "worst non-silhouette fraction {worst}");
+    assert!(worst <= 0.008, "worst non-silhouette fraction {worst}");
 }
 
 /// Shadow rays from the eye-ray hits of every SPD size-1 scene (front faces, lights the

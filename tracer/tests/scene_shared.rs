@@ -5,6 +5,9 @@
 //! ```text
 //! TRACER_SCENE_DATA=/path/to/scenes cargo test --release -p tracer --test integration scene_shared:: -- --ignored --nocapture
 //! ```
+//!
+//! CI (`.ci/run`) runs it this way whenever the data set is at `../shared/scenes`, beside
+//! the repository, and prints that it did not run otherwise.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;

@@ -13,6 +13,17 @@ fn scene(name: &str, accel: &AccelOptions) -> Scene<f32> {
     Scene::from_desc(&tracer::scene::load(&path).unwrap(), accel)
 }
 
+/// The same image bit for bit: `to_bits` per channel (+0 and -0 differ, a NaN equals
+/// itself), which `==` on floats is not.
+fn same_bits(a: &tracer::Image, b: &tracer::Image) -> bool {
+    (a.width, a.height) == (b.width, b.height)
+        && a.pixels
+            .iter()
+            .flatten()
+            .zip(b.pixels.iter().flatten())
+            .all(|(x, y)| x.to_bits() == y.to_bits())
+}
+
 #[test]
 fn schedulers_tiles_and_threads_agree() {
     for name in ["balls-s1.nff", "showcase.nff"] {
@@ -41,7 +52,7 @@ fn schedulers_tiles_and_threads_agree() {
                     let (img, st) = render_with_stats(&s, &settings);
                     let what =
                         format!("{name} spd={spd} {scheduler:?} tile {tile}, {threads} threads");
-                    assert!(img == reference, "{what}: image differs");
+                    assert!(same_bits(&img, &reference), "{what}: image differs");
                     assert_eq!(st.rays, rc.rays, "{what}: ray counts differ");
                 }
             }
@@ -72,7 +83,7 @@ fn wide_and_binary_bvh_give_the_same_image() {
         };
         let (a, ra) = render_with_stats(&wide, &settings);
         let (b, rb) = render_with_stats(&binary, &settings);
-        assert!(a == b, "{name}: images differ");
+        assert!(same_bits(&a, &b), "{name}: images differ");
         assert_eq!(ra.rays, rb.rays, "{name}: ray counts differ");
     }
 }
