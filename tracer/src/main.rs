@@ -299,7 +299,11 @@ fn load(args: &RenderArgs) -> Result<SceneDesc, String> {
         angle: args.angle,
         ..scene::ObjOptions::default()
     };
-    scene::load_with(&args.scene, &opts).map_err(|e| e.to_string())
+    let precision = match args.precision {
+        Precision::F32 => scene::Precision::F32,
+        Precision::F64 => scene::Precision::F64,
+    };
+    scene::load_for(&args.scene, &opts, precision).map_err(|e| e.to_string())
 }
 
 fn run_render(args: &RenderArgs) -> Result<(), String> {
@@ -374,7 +378,7 @@ fn render_in<T: Real>(
             "effects": stats.effects,
             "primitives": {
                 "sphere": g.spheres, "triangle": g.triangles, "polygon": g.polygons,
-                "patch": g.patches, "cone": g.cones,
+                "patch": g.patches, "cone": g.cones, "degenerate": g.skipped,
                 "total": desc.shapes.len(),
             },
             "bvh": { "nodes": g.bvh_nodes, "depth": g.bvh_depth, "bytes": g.bvh_bytes, "build_ms": g.build_ms },
