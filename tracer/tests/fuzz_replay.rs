@@ -81,6 +81,9 @@ fn obj(data: &[u8]) {
     }
 }
 
+/// A fuzz target's entry point.
+type Target = fn(&[u8]);
+
 fn files(dir: &Path) -> Vec<PathBuf> {
     let mut out: Vec<PathBuf> = match std::fs::read_dir(dir) {
         Ok(entries) => entries
@@ -105,7 +108,7 @@ fn allocation_bound(len: usize) -> usize {
 #[test]
 fn fuzz_corpora_replay_without_panic_in_bounded_time_and_memory() {
     let fuzz = Path::new(env!("CARGO_MANIFEST_DIR")).join("fuzz");
-    let targets: [(&str, fn(&[u8])); 2] = [("nff", nff), ("obj", obj)];
+    let targets: [(&str, Target); 2] = [("nff", nff), ("obj", obj)];
     let mut replayed = 0;
     for (name, target) in targets {
         let inputs: Vec<PathBuf> = ["corpus", "regressions"]
