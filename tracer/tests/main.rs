@@ -15,6 +15,7 @@ macro_rules! suites {
 
 suites!(
     effects,
+    fuzz_replay,
     geometry_bvh,
     geometry_primitives,
     geometry_watertight,
@@ -22,6 +23,7 @@ suites!(
     render,
     robustness,
     robustness_props,
+    scene_input,
     scene_nff,
     scene_obj,
     scene_shared,

@@ -1,46 +1,25 @@
 //! What the subcommands share: the precision, the scheduler and packet options, the OBJ
 //! camera options, threshold parsing, and the one way every subcommand reads a scene.
 
-use clap::ValueEnum;
-use std::fmt;
 use std::path::Path;
 use tracer::packets::Packets;
 use tracer::render::{Schedule, Scheduler};
 use tracer::scene::{self, desc::SceneDesc, ObjOptions};
 
-/// Arithmetic precision of the whole tracer: the scalar type a scene is built and
-/// rendered in.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, ValueEnum)]
-pub enum Precision {
-    /// 32-bit floats.
-    F32,
-    /// 64-bit floats.
-    F64,
-}
-
-impl Precision {
-    /// `f32` or `f64`.
-    pub fn name(self) -> &'static str {
-        match self {
-            Precision::F32 => "f32",
-            Precision::F64 => "f64",
-        }
-    }
-}
-
-impl fmt::Display for Precision {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
-    }
-}
+pub use tracer::scene::Precision;
 
 /// Reads a scene file (NFF, gzip-compressed NFF, or OBJ framed by `obj`) with
-/// [`tracer::scene::load_with`]; every subcommand reads its scenes here.
+/// [`tracer::scene::load_for`], refusing numbers that `precision` cannot hold; every
+/// subcommand reads its scenes here.
 ///
 /// # Errors
 /// One line `FILE:LINE: message` (or `FILE: message`).
-pub fn load_scene(path: &Path, obj: &ObjOptions) -> Result<SceneDesc, String> {
-    scene::load_with(path, obj).map_err(|e| e.to_string())
+pub fn load_scene(
+    path: &Path,
+    obj: &ObjOptions,
+    precision: Precision,
+) -> Result<SceneDesc, String> {
+    scene::load_for(path, obj, precision).map_err(|e| e.to_string())
 }
 
 /// The camera of an OBJ scene (an NFF scene carries its own and ignores these).

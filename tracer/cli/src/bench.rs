@@ -95,7 +95,7 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
         .map_err(|e| format!("cannot create the thread pool: {e}"))?;
     let mut rows = Vec::new();
     for path in &args.scenes {
-        let desc = load_scene(path, &Default::default())?;
+        let desc = load_scene(path, &Default::default(), args.precision)?;
         let name = path
             .file_name()
             .map(|n| n.to_string_lossy().into_owned())

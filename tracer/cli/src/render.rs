@@ -86,7 +86,7 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
         ));
     }
     let packets = args.packets.packets()?;
-    let desc = load_scene(&args.scene, &args.camera.obj_options())?;
+    let desc = load_scene(&args.scene, &args.camera.obj_options(), args.precision)?;
     let parse = (start.ms(), start.cycles());
     let settings = Settings {
         width: args.width,
@@ -140,7 +140,7 @@ fn render_in<T: tracer::Float>(
             "effects": stats.effects,
             "primitives": {
                 "sphere": g.spheres, "triangle": g.triangles, "polygon": g.polygons,
-                "patch": g.patches, "cone": g.cones,
+                "patch": g.patches, "cone": g.cones, "degenerate": g.skipped,
                 "total": desc.shapes.len(),
             },
             "bvh": { "nodes": g.bvh_nodes, "depth": g.bvh_depth, "bytes": g.bvh_bytes, "build_ms": g.build_ms },

@@ -21,15 +21,23 @@
 //! inserted into the material list where it is first needed (so at index 0).
 //!
 //! What is rejected, with the line of the statement at fault: unknown keywords, malformed
-//! or non-finite numbers (`nan`, `inf`, `1e999`), statements with too few or too many
-//! numbers, a missing or repeated `v` block or camera field, a camera whose `from` equals
-//! `at` or whose `up` is parallel to the view direction, an angle outside (0, 180), a
-//! resolution that is not a whole number from 1 to 65536, zero-radius spheres, cones
-//! with two zero radii, radii of opposite signs or coinciding ends, and polygons with
-//! fewer than three vertices or fewer vertices than declared.
+//! or non-finite numbers (`nan`, `inf`, `1e999`), numbers that do not fit the target
+//! [`Precision`] (`1e39` for `f32`, with [`parse_nff_for`]), statements with too few or
+//! too many numbers, a missing or repeated `v` block or camera field, a camera whose
+//! `from` equals `at` or whose `up` is parallel to the view direction, an angle outside
+//! (0, 180), a resolution that is not a whole number from 1 to 65536, cone radii of
+//! opposite signs, and polygons with fewer than three or more than
+//! [`MAX_POLYGON_VERTICES`] vertices or fewer vertices than declared.
+//!
+//! Degenerate primitives are legal and kept: a sphere of radius 0, a cone with both
+//! radii 0 or with coinciding ends, polygons with collinear or repeated vertices. Real
+//! files contain them; the geometry builder drops them before the BVH is built and
+//! counts them ([`GeometryStats::skipped`](crate::geometry::GeometryStats::skipped), the
+//! `primitives.degenerate` of `--stats`), so no ray ever hits them.
 //!
 //! Speed: the tokenizer walks the bytes once without allocating, numbers go through
-//! `str::parse::<f64>` on the token, and only polygons allocate (their vertex lists).
+//! `str::parse::<f64>` on the token, and only polygons allocate (their vertex lists,
+//! reserved for no more vertices than the rest of the file can hold).
 //!
 //! Reference: E. Haines, "NFF: Neutral File Format", version 3.9, in the Standard
 //! Procedural Databases 3.14 distribution.
@@ -38,8 +46,8 @@ use std::path::Path;
 
 use super::error::quote;
 use super::{
-    CameraDesc, LightDesc, MaterialDesc, SceneDesc, SceneError, Shape, ShapeDesc, DEFAULT_MATERIAL,
-    P3,
+    CameraDesc, LightDesc, MaterialDesc, Precision, SceneDesc, SceneError, Shape, ShapeDesc,
+    DEFAULT_MATERIAL, MAX_POLYGON_VERTICES, P3,
 };
 
 /// The largest accepted image side, in pixels.
@@ -59,8 +67,22 @@ pub const MAX_RESOLUTION: u32 = 65536;
 /// assert_eq!(err.to_string(), "bad.nff:2: unknown keyword `q`");
 /// ```
 pub fn parse_nff(data: impl AsRef<[u8]>, file_name: &str) -> Result<SceneDesc, SceneError> {
+    parse_nff_for(data, file_name, Precision::F64)
+}
+
+/// [`parse_nff`] for a scene to be rendered in `precision`: every number must stay
+/// finite in it (see [`Precision`]).
+///
+/// # Errors
+/// As [`parse_nff`], and `FILE:LINE: number ... does not fit in f32 ...` for a number
+/// out of range.
+pub fn parse_nff_for(
+    data: impl AsRef<[u8]>,
+    file_name: &str,
+    precision: Precision,
+) -> Result<SceneDesc, SceneError> {
     let data = super::maybe_gunzip(data.as_ref(), file_name)?;
-    Parser::new(&data, file_name).parse()
+    Parser::new(&data, file_name, precision).parse()
 }
 
 /// Reads and parses an NFF file, gzip-compressed or not (recognised by its magic bytes).
@@ -69,9 +91,17 @@ pub fn parse_nff(data: impl AsRef<[u8]>, file_name: &str) -> Result<SceneDesc, S
 /// # Errors
 /// A [`SceneError`] if the file cannot be read, is not valid gzip, or is not valid NFF.
 pub fn load_nff(path: &Path) -> Result<SceneDesc, SceneError> {
+    load_nff_for(path, Precision::F64)
+}
+
+/// [`load_nff`] for a scene to be rendered in `precision` (see [`parse_nff_for`]).
+///
+/// # Errors
+/// As [`load_nff`], and for a number out of `precision`'s range.
+pub fn load_nff_for(path: &Path, precision: Precision) -> Result<SceneDesc, SceneError> {
     let name = path.display().to_string();
     let data = super::read_file(path, &name)?;
-    Parser::new(&data, &name).parse()
+    Parser::new(&data, &name, precision).parse()
 }
 
 // ---------------------------------------------------------------------------------------
@@ -257,6 +287,7 @@ const VIEW_KEYWORDS: [&str; 6] = ["from", "at", "up", "angle", "hither", "resolu
 struct Parser<'a> {
     lex: Lexer<'a>,
     file: &'a str,
+    precision: Precision,
     camera: Option<(CameraDesc, u32)>,
     background: Option<(P3, u32)>,
     lights: Vec<LightDesc>,
@@ -268,10 +299,11 @@ struct Parser<'a> {
 }
 
 impl<'a> Parser<'a> {
-    fn new(data: &'a [u8], file: &'a str) -> Self {
+    fn new(data: &'a [u8], file: &'a str, precision: Precision) -> Self {
         Self {
             lex: Lexer::new(data),
             file,
+            precision,
             camera: None,
             background: None,
             lights: Vec::new(),
@@ -377,9 +409,14 @@ impl<'a> Parser<'a> {
         )
     }
 
-    /// Reads the value of a numeric token.
+    /// Reads the value of a numeric token, which must fit the target precision.
     fn number(&self, token: Token<'_>) -> Result<f64, SceneError> {
-        parse_real(token.text).map_err(|e| self.error(token.line, e.message(token.text)))
+        let value =
+            parse_real(token.text).map_err(|e| self.error(token.line, e.message(token.text)))?;
+        if !self.precision.fits(value) {
+            return Err(self.error(token.line, self.precision.overflow_message(token.text)));
+        }
+        Ok(value)
     }
 
     /// The next token if it is meant as a number, parsed; `None` at the end of the data
@@ -593,10 +630,8 @@ impl<'a> Parser<'a> {
 
     /// `s x y z r`.
     fn sphere(&mut self, line: u32) -> Result<(), SceneError> {
+        // A zero radius is degenerate but legal: kept, and dropped by the builder.
         let [x, y, z, r] = self.numbers::<4>("s", line)?;
-        if r == 0.0 {
-            return Err(self.error(line, "sphere radius must not be zero"));
-        }
         self.push(
             Shape::Sphere {
                 center: [x, y, z],
@@ -610,16 +645,13 @@ impl<'a> Parser<'a> {
     /// `c base.x base.y base.z base_radius apex.x apex.y apex.z apex_radius`.
     fn cone(&mut self, line: u32) -> Result<(), SceneError> {
         let [bx, by, bz, br, ax, ay, az, ar] = self.numbers::<8>("c", line)?;
-        if br == 0.0 && ar == 0.0 {
-            return Err(self.error(line, "cone radii must not both be zero"));
-        }
+        // Opposite signs would ask for both sides visible at once: no meaning, refused.
+        // Two zero radii or coinciding ends are degenerate but legal (kept, and dropped
+        // by the builder).
         if (br < 0.0 && ar > 0.0) || (br > 0.0 && ar < 0.0) {
             return Err(self.error(line, "cone radii must have the same sign"));
         }
         let (base, apex) = ([bx, by, bz], [ax, ay, az]);
-        if base == apex {
-            return Err(self.error(line, "cone base and apex coincide"));
-        }
         self.push(
             Shape::Cone {
                 base,
@@ -654,13 +686,21 @@ impl<'a> Parser<'a> {
                 format!("{what} needs at least 3 vertices, found {count}"),
             ));
         }
-        if count > f64::from(u32::MAX) {
-            return Err(self.error(line, format!("{what} vertex count {count} is too large")));
+        if count > MAX_POLYGON_VERTICES as f64 {
+            return Err(self.error(
+                line,
+                format!(
+                    "{what} vertex count {count} is too large (the limit is {MAX_POLYGON_VERTICES})"
+                ),
+            ));
         }
         let n = count as u32;
         let per_vertex = if patch { 6 } else { 3 };
-        // Reserve no more than the data could hold, so a bogus count cannot exhaust memory.
-        let cap = (n as usize).min(1024);
+        // Reserve no more than the rest of the data could hold (a number takes at least
+        // one byte and one delimiter), so a bogus count cannot make us allocate more
+        // than the file's size; a short file then fails below with the count it gave.
+        let room = self.lex.data.len().saturating_sub(self.lex.pos) / (2 * per_vertex);
+        let cap = (n as usize).min(room);
         let mut vertices = Vec::with_capacity(cap);
         let mut normals = Vec::with_capacity(if patch { cap } else { 0 });
         for k in 0..n {

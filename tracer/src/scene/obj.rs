@@ -39,15 +39,22 @@
 //!
 //! Errors carry the OBJ or MTL file and line (`FILE:LINE: message`), except camera
 //! option errors and a file without faces, which name only the OBJ file.
+//!
+//! # Limits
+//! A face has at most [`MAX_POLYGON_VERTICES`] vertices; with [`Precision::F32`] every
+//! number (and every `v x y z w` after dividing by `w`, and the camera framed from
+//! them) must stay finite in `f32`. Faces whose vertices coincide or are collinear are
+//! degenerate but legal: kept here, dropped and counted by the geometry builder.
 
 use std::collections::HashMap;
+use std::io;
 use std::path::Path;
 
 use super::error::quote;
 use super::nff::{is_parallel, looks_numeric, parse_real, MAX_RESOLUTION};
 use super::{
-    CameraDesc, LightDesc, MaterialDesc, SceneDesc, SceneError, Shape, ShapeDesc, DEFAULT_MATERIAL,
-    P3,
+    CameraDesc, LightDesc, MaterialDesc, Precision, SceneDesc, SceneError, Shape, ShapeDesc,
+    DEFAULT_MATERIAL, MAX_POLYGON_VERTICES, P3,
 };
 
 /// Camera and light settings for an OBJ scene; `None` fields get the default framing
@@ -92,10 +99,62 @@ const DEFAULT_RESOLUTION: (u32, u32) = (512, 512);
 /// # Ok::<(), tracer::scene::SceneError>(())
 /// ```
 pub fn load_obj(path: &Path, options: &ObjOptions) -> Result<SceneDesc, SceneError> {
+    load_obj_for(path, options, Precision::F64)
+}
+
+/// [`load_obj`] for a scene to be rendered in `precision`: every number must stay
+/// finite in it (see [`Precision`]).
+///
+/// # Errors
+/// As [`load_obj`], and for a number out of `precision`'s range.
+pub fn load_obj_for(
+    path: &Path,
+    options: &ObjOptions,
+    precision: Precision,
+) -> Result<SceneDesc, SceneError> {
     let name = path.display().to_string();
     let data = super::read_file(path, &name)?;
     let dir = path.parent().unwrap_or(Path::new(""));
-    let mut reader = ObjReader::new(&name, dir);
+    let mut libraries = |lib: &str| {
+        let path = dir.join(lib);
+        std::fs::read(&path).map(|data| (path.display().to_string(), data))
+    };
+    let mut reader = ObjReader::new(&name, precision, &mut libraries);
+    reader.read(&data)?;
+    reader.finish(options)
+}
+
+/// Parses OBJ data (decompressed first if it starts with the gzip magic bytes) without
+/// touching the file system: `library` returns the contents of the material library a
+/// `mtllib` statement names. `file_name` labels errors; errors in a library name it as
+/// `mtllib` gave it.
+///
+/// # Errors
+/// As [`load_obj_for`]; a library that `library` cannot give is an error at the
+/// `mtllib` line.
+///
+/// # Examples
+/// ```
+/// use tracer::scene::{parse_obj, ObjOptions, Precision};
+/// let obj = "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl red\nf 1 2 3\n";
+/// let library = |name: &str| match name {
+///     "m.mtl" => Ok(b"newmtl red\nKd 1 0 0\n".to_vec()),
+///     _ => Err(std::io::ErrorKind::NotFound.into()),
+/// };
+/// let scene = parse_obj(obj, "t.obj", &ObjOptions::default(), Precision::F32, library)?;
+/// assert_eq!(scene.materials[scene.shapes[0].material as usize].color, [1.0, 0.0, 0.0]);
+/// # Ok::<(), tracer::scene::SceneError>(())
+/// ```
+pub fn parse_obj(
+    data: impl AsRef<[u8]>,
+    file_name: &str,
+    options: &ObjOptions,
+    precision: Precision,
+    mut library: impl FnMut(&str) -> io::Result<Vec<u8>>,
+) -> Result<SceneDesc, SceneError> {
+    let data = super::maybe_gunzip(data.as_ref(), file_name)?;
+    let mut libraries = |lib: &str| library(lib).map(|data| (lib.to_owned(), data));
+    let mut reader = ObjReader::new(file_name, precision, &mut libraries);
     reader.read(&data)?;
     reader.finish(options)
 }
@@ -153,9 +212,13 @@ struct Corner {
 /// No normal index.
 const NONE: usize = usize::MAX;
 
+/// Gives a material library's contents and the name its errors carry.
+type Libraries<'a> = dyn FnMut(&str) -> io::Result<(String, Vec<u8>)> + 'a;
+
 struct ObjReader<'a> {
     file: &'a str,
-    dir: &'a Path,
+    precision: Precision,
+    libraries: &'a mut Libraries<'a>,
     positions: Vec<P3>,
     normals: Vec<P3>,
     texcoords: usize,
@@ -167,10 +230,11 @@ struct ObjReader<'a> {
 }
 
 impl<'a> ObjReader<'a> {
-    fn new(file: &'a str, dir: &'a Path) -> Self {
+    fn new(file: &'a str, precision: Precision, libraries: &'a mut Libraries<'a>) -> Self {
         Self {
             file,
-            dir,
+            precision,
+            libraries,
             positions: Vec::new(),
             normals: Vec::new(),
             texcoords: 0,
@@ -192,7 +256,7 @@ impl<'a> ObjReader<'a> {
             let Some(keyword) = w.next() else { continue };
             match keyword {
                 b"v" => {
-                    let (values, count) = numbers::<7>(w, self.file, n)?;
+                    let (values, count) = numbers::<7>(w, self.file, n, self.precision)?;
                     let [x, y, z, a, ..] = values;
                     let p = match count {
                         3 | 6 => [x, y, z],
@@ -201,10 +265,14 @@ impl<'a> ObjReader<'a> {
                                 return Err(self.error(n, "vertex weight `w` must not be zero"));
                             }
                             let p = [x / a, y / a, z / a];
-                            if !p.iter().all(|c| c.is_finite()) {
-                                return Err(
-                                    self.error(n, "vertex is not finite after dividing by `w`")
-                                );
+                            if !p.iter().all(|&c| self.precision.fits(c)) {
+                                return Err(self.error(
+                                    n,
+                                    format!(
+                                        "vertex does not fit in {} after dividing by `w`",
+                                        self.precision.name()
+                                    ),
+                                ));
                             }
                             p
                         }
@@ -218,7 +286,7 @@ impl<'a> ObjReader<'a> {
                     self.positions.push(p);
                 }
                 b"vn" => {
-                    let (values, count) = numbers::<4>(w, self.file, n)?;
+                    let (values, count) = numbers::<4>(w, self.file, n, self.precision)?;
                     if count != 3 {
                         return Err(
                             self.error(n, format!("expected 3 numbers after `vn`, found {count}"))
@@ -227,7 +295,7 @@ impl<'a> ObjReader<'a> {
                     self.normals.push([values[0], values[1], values[2]]);
                 }
                 b"vt" => {
-                    let (_, count) = numbers::<4>(w, self.file, n)?;
+                    let (_, count) = numbers::<4>(w, self.file, n, self.precision)?;
                     if !(1..=3).contains(&count) {
                         return Err(self.error(
                             n,
@@ -275,6 +343,12 @@ impl<'a> ObjReader<'a> {
                     NONE
                 }
             };
+            if self.corners.len() - start == MAX_POLYGON_VERTICES {
+                return Err(self.error(
+                    n,
+                    format!("face has more than {MAX_POLYGON_VERTICES} vertices"),
+                ));
+            }
             self.corners.push(Corner { position, normal });
         }
         let len = self.corners.len() - start;
@@ -326,18 +400,21 @@ impl<'a> ObjReader<'a> {
         if whole.is_empty() {
             return Err(self.error(n, "expected a file name after `mtllib`"));
         }
-        let names: Vec<String> =
-            if whole.contains(char::is_whitespace) && self.dir.join(&whole).is_file() {
-                vec![whole]
-            } else {
-                words(line)
-                    .skip(1)
-                    .map(|w| String::from_utf8_lossy(w).into_owned())
-                    .collect()
-            };
-        for name in names {
-            let path = self.dir.join(&name);
-            let data = std::fs::read(&path).map_err(|e| {
+        // A name with spaces read whole, if it can be; else each word is a name.
+        let mut read = Vec::new();
+        if whole.contains(char::is_whitespace) {
+            if let Ok(lib) = (self.libraries)(&whole) {
+                read.push(Ok(lib));
+            }
+        }
+        if read.is_empty() {
+            for w in words(line).skip(1) {
+                let name = String::from_utf8_lossy(w).into_owned();
+                read.push((self.libraries)(&name).map_err(|e| (name, e)));
+            }
+        }
+        for lib in read {
+            let (mtl_name, data) = lib.map_err(|(name, e)| {
                 let reason = super::error::io_reason(&e);
                 self.error(
                     n,
@@ -348,8 +425,7 @@ impl<'a> ObjReader<'a> {
                 )
                 .with_source(e)
             })?;
-            let mtl_name = path.display().to_string();
-            for (name, material) in parse_mtl(&data, &mtl_name)? {
+            for (name, material) in parse_mtl(&data, &mtl_name, self.precision)? {
                 let index = u32::try_from(self.materials.len())
                     .map_err(|_| self.error(n, "too many materials"))?;
                 self.materials.push(material);
@@ -420,6 +496,14 @@ impl<'a> ObjReader<'a> {
             });
         }
         let camera = frame(lo, hi, options).map_err(|m| SceneError::whole_file(self.file, m))?;
+        for (what, p) in [("from", camera.from), ("at", camera.at), ("up", camera.up)] {
+            if !p.iter().all(|&c| self.precision.fits(c)) {
+                return Err(SceneError::whole_file(
+                    self.file,
+                    format!("camera `{what}` does not fit in {}", self.precision.name()),
+                ));
+            }
+        }
         let light = match &options.light {
             Some(l) => {
                 let finite = l
@@ -453,11 +537,15 @@ fn numbers<'d, const N: usize>(
     words: impl Iterator<Item = &'d [u8]>,
     file: &str,
     n: u32,
+    precision: Precision,
 ) -> Result<([f64; N], usize), SceneError> {
     let mut out = [0.0; N];
     let mut count = 0;
     for w in words {
         let v = parse_real(w).map_err(|e| SceneError::at(file, n, e.message(w)))?;
+        if !precision.fits(v) {
+            return Err(SceneError::at(file, n, precision.overflow_message(w)));
+        }
         if let Some(slot) = out.get_mut(count) {
             *slot = v;
         }
@@ -566,7 +654,11 @@ impl MtlFields {
 }
 
 /// Parses an MTL library into named materials, in file order.
-fn parse_mtl(data: &[u8], file: &str) -> Result<Vec<(String, MaterialDesc)>, SceneError> {
+fn parse_mtl(
+    data: &[u8],
+    file: &str,
+    precision: Precision,
+) -> Result<Vec<(String, MaterialDesc)>, SceneError> {
     let mut out = Vec::new();
     let mut current: Option<(String, MtlFields)> = None;
     for (n, line) in lines(data) {
@@ -602,7 +694,7 @@ fn parse_mtl(data: &[u8], file: &str) -> Result<Vec<(String, MaterialDesc)>, Sce
                         quote(form)
                     )));
                 }
-                let (v, count) = numbers::<3>(w, file, n)?;
+                let (v, count) = numbers::<3>(w, file, n, precision)?;
                 let color = match count {
                     1 => [v[0]; 3],
                     3 => v,
@@ -636,7 +728,7 @@ fn parse_mtl(data: &[u8], file: &str) -> Result<Vec<(String, MaterialDesc)>, Sce
                 if keyword == b"d" {
                     w.next_if(|t| *t == b"-halo");
                 }
-                let (v, count) = numbers::<1>(w, file, n)?;
+                let (v, count) = numbers::<1>(w, file, n, precision)?;
                 if count != 1 {
                     return Err(error(format!(
                         "expected 1 number after `{key}`, found {count}"
@@ -678,7 +770,7 @@ mod tests {
     fn mtl_mapping() {
         let mtl = b"newmtl glass\nKd 1 1 1\nKs 1 1 1\nillum 7\nd 0.1\nNi 1.5\nNs 200\n\
                     newmtl glossy\nKd 0.5\nKs 0.5 0.5 0.5\nillum 2\nTr 0.25\n";
-        let m = parse_mtl(mtl, "m.mtl").unwrap();
+        let m = parse_mtl(mtl, "m.mtl", Precision::F64).unwrap();
         assert_eq!(m[0].0, "glass");
         let glass = &m[0].1;
         assert_eq!((glass.ks, glass.ior, glass.shine), (1.0, 1.5, 200.0));
@@ -690,7 +782,11 @@ mod tests {
 
     #[test]
     fn mtl_errors() {
-        let err = |text: &str| parse_mtl(text.as_bytes(), "m.mtl").unwrap_err().to_string();
+        let err = |text: &str| {
+            parse_mtl(text.as_bytes(), "m.mtl", Precision::F64)
+                .unwrap_err()
+                .to_string()
+        };
         assert_eq!(err("Kd 1 1 1\n"), "m.mtl:1: `Kd` before any `newmtl`");
         assert_eq!(
             err("newmtl a\nKd 1 1\n"),

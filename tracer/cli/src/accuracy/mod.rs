@@ -40,6 +40,7 @@ pub use metrics::{compare, pareto, Metrics};
 pub use report::{scene_name, summary, write_report};
 
 use crate::args::load_scene;
+use crate::Precision;
 use std::path::PathBuf;
 
 /// Arguments of `tracer accuracy`.
@@ -105,7 +106,8 @@ pub fn run(args: &AccuracyArgs) -> Result<(), String> {
     options.check()?;
     let mut scenes = Vec::new();
     for path in &args.scenes {
-        let desc = load_scene(path, &Default::default())?;
+        // Strict for f32: the experiments render in both precisions.
+        let desc = load_scene(path, &Default::default(), Precision::F32)?;
         let name = scene_name(path);
         if scenes.iter().any(|(n, _, _): &(String, _, _)| *n == name) {
             return Err(format!(

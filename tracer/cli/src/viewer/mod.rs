@@ -144,7 +144,7 @@ pub fn run(args: &ViewArgs) -> Result<(), String> {
         }
     }
     let script = args.script.as_deref().map(script::load).transpose()?;
-    let desc = load_scene(&args.scene, &args.camera.obj_options())?;
+    let desc = load_scene(&args.scene, &args.camera.obj_options(), args.precision)?;
     let (sw, sh) = desc.camera.resolution;
     let (w, h) = (args.width.unwrap_or(sw), args.height.unwrap_or(sh));
     let accel = AccelOptions {
