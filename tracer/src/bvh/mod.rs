@@ -13,9 +13,8 @@
 //!   one packet, with the same ordered and early-exit traversals.
 //! - [`packet_traverse`]: packets of rays in SIMD lanes over either tree.
 //!
-//! Every box test, of any tree, ray or packet, is the one slab formula
-//! [`traverse::slab_test`]; [`Bvh::walk`] and [`Bvh::walk_packet`] pick the tree for the
-//! geometry's queries.
+//! Every box test is the one slab formula [`traverse::slab`] (the four-box test of a
+//! wide node writes its operations out, for speed: see [`wide::box_test`]).
 
 pub mod build;
 pub mod node;
@@ -26,8 +25,6 @@ pub mod wide;
 pub use build::{BuildConfig, BuildPrim};
 pub use node::{Bounds3, Node};
 pub use traverse::TraversalRay;
-use vecexpr::Real;
-use wide::Leaf;
 pub use wide::Node4;
 
 /// A flattened BVH: depth-first nodes plus the primitive ids in leaf order.
@@ -69,28 +66,6 @@ impl Bvh {
     /// Primitive ids in leaf order: a leaf covers `refs()[offset..offset + count]`.
     pub fn refs(&self) -> &[u32] {
         &self.refs
-    }
-
-    /// The single-ray walk of the geometry's queries: [`Bvh::traverse4_from`] from wide
-    /// node `start` when `wide`, else [`Bvh::traverse`] over the binary tree, whose
-    /// leaves `leaf` sees as [`Leaf::Refs`] (`start` must then be 0, the root). `leaf`
-    /// returns `Some(t)` for a hit at `t`, the new `t_max`; with `ANY_HIT` the walk
-    /// stops at the first. Returns whether any leaf reported a hit.
-    #[inline(always)]
-    pub fn walk<T: Real, const ANY_HIT: bool>(
-        &self,
-        wide: bool,
-        start: u32,
-        ray: &TraversalRay<T>,
-        t_max: T,
-        mut leaf: impl FnMut(Leaf<'_>) -> Option<T>,
-    ) -> bool {
-        if wide {
-            self.traverse4_from::<T, ANY_HIT>(start, ray, t_max, |l, _| leaf(l))
-        } else {
-            debug_assert_eq!(start, 0, "the binary walk starts at the root");
-            self.traverse::<T, ANY_HIT>(ray, t_max, |refs, _| leaf(Leaf::Refs(refs)))
-        }
     }
 
     /// Rewrites every id through `f` (used after the caller reorders its primitives).

@@ -5,7 +5,7 @@
 //! tree together, a node is visited when any ray of the packet may hit something in it,
 //! and a mask carries which rays take part. Each node's box is tested against every ray
 //! at once with the same conservative slab test as [`TraversalRay::hit_box`] (Ize 2013),
-//! the one formula [`slab_test`] over the lane type, so lane `i` accepts a box exactly
+//! the one formula [`slab`] over the lane type, so lane `i` accepts a box exactly
 //! when the single ray `i` does; the leaf sees the rays that accept its box.
 //!
 //! - [`Bvh::traverse4_packet`] (the default) walks the four-wide tree: the packet tests
@@ -25,7 +25,7 @@
 //! would reach with its current closest distance or a larger one, so each lane's result
 //! is the single ray's, bit for bit.
 
-use super::traverse::{slab_test, TraversalRay};
+use super::traverse::{slab, TraversalRay};
 use super::wide::{Leaf, Node4, EMPTY_SLOT, WIDTH};
 use super::Bvh;
 use core::mem::MaybeUninit;
@@ -101,34 +101,22 @@ impl<S: SimdF32> PacketRay<S> {
     /// [`TraversalRay::hit_box`] in every lane: which lanes overlap the box within
     /// `(t_min, t_max]` (conservatively), and their entry distances.
     #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // the axis indexes four arrays, as in `hit_box`
     pub fn hit_box(&self, b: &[[f32; 3]; 2], t_max: S) -> (S::Mask, S) {
-        let (lo, hi) = (&b[0], &b[1]);
-        let lo = [S::splat(lo[0]), S::splat(lo[1]), S::splat(lo[2])];
-        let hi = [S::splat(hi[0]), S::splat(hi[1]), S::splat(hi[2])];
-        let n = &self.neg;
-        let near = [
-            S::select(n[0], hi[0], lo[0]),
-            S::select(n[1], hi[1], lo[1]),
-            S::select(n[2], hi[2], lo[2]),
-        ];
-        let far = [
-            S::select(n[0], lo[0], hi[0]),
-            S::select(n[1], lo[1], hi[1]),
-            S::select(n[2], lo[2], hi[2]),
-        ];
-        self.slabs(near, far, t_max)
+        let mut t = (self.t_min, t_max * self.slack);
+        for a in 0..3 {
+            let (lo, hi) = (S::splat(b[0][a]), S::splat(b[1][a]));
+            let near = S::select(self.neg[a], hi, lo);
+            let far = S::select(self.neg[a], lo, hi);
+            t = slab(t, near, far, self.axis(a));
+        }
+        (t.0.le(t.1), t.0)
     }
 
-    /// [`slab_test`] of the packet's rays against the planes `near`, `far`.
+    /// The rays' `(origin, inv_dir, inv_far)` on axis `a`, as [`slab`] takes them.
     #[inline(always)]
-    fn slabs(&self, near: [S; 3], far: [S; 3], t_max: S) -> (S::Mask, S) {
-        slab_test(
-            near,
-            far,
-            [&self.origin, &self.inv_dir, &self.inv_far],
-            self.t_min,
-            t_max * self.slack,
-        )
+    fn axis(&self, a: usize) -> (S, S, S) {
+        (self.origin[a], self.inv_dir[a], self.inv_far[a])
     }
 }
 
@@ -229,28 +217,6 @@ impl Bvh {
     }
 }
 
-impl Bvh {
-    /// The packet walk of the geometry's queries: [`Bvh::traverse4_packet`] over the
-    /// rays of `active` (bits) when `wide`, else [`Bvh::traverse_packet`] (which never
-    /// hands rays over, so `switch` is not read). Returns the final `t_max`.
-    #[inline(always)]
-    pub fn walk_packet<S: SimdF32>(
-        &self,
-        wide: bool,
-        ray: &PacketRay<S>,
-        active: u32,
-        t_max: S,
-        switch: u32,
-        visit: &mut impl PacketVisitor<S>,
-    ) -> S {
-        if wide {
-            self.traverse4_packet(ray, active, t_max, switch, visit)
-        } else {
-            self.traverse_packet(ray, S::Mask::from_bitmask(active), t_max, visit)
-        }
-    }
-}
-
 /// The four-wide traversal's stack: entries pushed with the packet's lanes that hit
 /// them and those lanes' entry distances.
 const STACK4_SIZE: usize = super::wide::STACK_SIZE;
@@ -278,18 +244,13 @@ impl<S: SimdF32> PacketRay<S> {
     /// [`TraversalRay::hit_box`].
     #[inline(always)]
     fn hit_slot(&self, neg: [usize; 3], node: &Node4, i: usize, t_max: S) -> (S::Mask, S) {
-        let b = &node.bounds;
-        let near = [
-            S::splat(b[neg[0]][0][i]),
-            S::splat(b[neg[1]][1][i]),
-            S::splat(b[neg[2]][2][i]),
-        ];
-        let far = [
-            S::splat(b[1 - neg[0]][0][i]),
-            S::splat(b[1 - neg[1]][1][i]),
-            S::splat(b[1 - neg[2]][2][i]),
-        ];
-        self.slabs(near, far, t_max)
+        let mut t = (self.t_min, t_max * self.slack);
+        for (a, &n) in neg.iter().enumerate() {
+            let near = S::splat(node.bounds[n][a][i]);
+            let far = S::splat(node.bounds[1 - n][a][i]);
+            t = slab(t, near, far, self.axis(a));
+        }
+        (t.0.le(t.1), t.0)
     }
 }
 

@@ -87,52 +87,40 @@ impl<T: Real> TraversalRay<T> {
     /// (conservatively), else `None`.
     #[inline(always)]
     pub fn hit_box(&self, b: &[[f32; 3]; 2], t_max: T) -> Option<T> {
-        let plane = |side: bool, a: usize| <T as Real>::from_f64(f64::from(b[side as usize][a]));
-        let near = core::array::from_fn(|a| plane(self.neg[a], a));
-        let far = core::array::from_fn(|a| plane(!self.neg[a], a));
-        let (hit, t_near) = slab_test(
-            near,
-            far,
-            [&self.origin, &self.inv_dir, &self.inv_far],
-            self.t_min,
-            t_max * self.slack,
-        );
-        hit.then_some(t_near)
+        let mut t = (self.t_min, t_max * self.slack);
+        for a in 0..3 {
+            let near = <T as Real>::from_f64(f64::from(b[self.neg[a] as usize][a]));
+            let far = <T as Real>::from_f64(f64::from(b[!self.neg[a] as usize][a]));
+            let ray = (self.origin[a], self.inv_dir[a], self.inv_far[a]);
+            t = slab(t, near, far, ray);
+        }
+        (t.0 <= t.1).then_some(t.0)
     }
 }
 
-/// The slab test (Ize 2013, see the module docs), the one source of every box test:
-/// one ray against one box ([`TraversalRay::hit_box`]), one ray against the four boxes
-/// of a wide node (`TraversalRay::hit_box4_bits`, over `vecexpr` packets of four lanes)
-/// and a packet of rays against one box (`PacketRay::hit_box`, `PacketRay::hit_slot`,
-/// over the SIMD lane types). Each lane of `V` holds one ray–box pair: `near` and `far`
-/// are the planes the ray meets first and last on each axis (picked by the sign of its
-/// direction), `ray` its origin, inverse direction and far-plane inverse direction
-/// (`[origin, inv_dir, inv_far]` of [`TraversalRay`]), `t_near` its `t_min` and
-/// `t_far` its `t_max` times the slack factor. Returns the lanes that overlap the box
-/// and their entry distances.
+/// One axis of the slab test (Ize 2013, see the module docs), the one source of the
+/// formula for one ray against one box ([`TraversalRay::hit_box`]) and for a packet of
+/// rays against one box (`PacketRay::hit_box`, `PacketRay::hit_slot`, over the SIMD
+/// lane types). Each lane of `V` holds one ray–box pair: `(t_near, t_far)` are its
+/// running entry and exit distances (starting at `t_min` and at `t_max` times the slack
+/// factor), `near` and `far` the box's planes the ray meets first and last on this axis
+/// (picked by the sign of its direction), and `ray` its `(origin, inv_dir, inv_far)` on
+/// this axis (as in [`TraversalRay`]). Returns the narrowed distances; after the three
+/// axes the box is hit in the lanes where `t_near <= t_far`, and `t_near` is the entry
+/// distance.
 ///
 /// The callers differ only in how they fill the lanes (which operands are splatted and
-/// how the planes are picked), which depends on their data layout; the arithmetic is
-/// the same operations in the same order for every `V`, so every lane computes the
-/// scalar test's bits.
+/// how the planes are picked), which follows their data layout. The four-box test of a
+/// wide node (`TraversalRay::hit_box4_bits`) writes the same operations out instead,
+/// because calling this function there cost 10 % of the instructions of single rays;
+/// its module docs (`bvh/wide/box_test.rs`) give the measurement.
 #[inline(always)]
-pub fn slab_test<V: Scalar>(
-    near: [V; 3],
-    far: [V; 3],
-    ray: [&[V; 3]; 3],
-    mut t_near: V,
-    mut t_far: V,
-) -> (V::Mask, V) {
-    let [origin, inv_dir, inv_far] = ray;
-    for a in 0..3 {
-        let tn = (near[a] - origin[a]) * inv_dir[a];
-        let tf = (far[a] - origin[a]) * inv_far[a];
-        // minps/maxps rule: a NaN `tn`/`tf` leaves the running value unchanged.
-        t_near = Scalar::max(tn, t_near);
-        t_far = Scalar::min(tf, t_far);
-    }
-    (t_near.le(t_far), t_near)
+pub fn slab<V: Scalar>((t_near, t_far): (V, V), near: V, far: V, ray: (V, V, V)) -> (V, V) {
+    let (origin, inv_dir, inv_far) = ray;
+    let tn = (near - origin) * inv_dir;
+    let tf = (far - origin) * inv_far;
+    // minps/maxps rule: a NaN `tn`/`tf` leaves the running value unchanged.
+    (Scalar::max(tn, t_near), Scalar::min(tf, t_far))
 }
 
 impl Bvh {

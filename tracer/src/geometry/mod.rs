@@ -27,14 +27,6 @@
 //! groups of four ([`triangle::Tri4`]), which that leaf points at instead of its
 //! references, and are tested against a ray four at a time.
 //!
-//! # Queries
-//! Every query, the closest hit ([`Geometry::intersect`]) or any hit
-//! ([`Geometry::occluded`]) of one ray or of a packet ([`packet_query`]), runs through
-//! one driver (`Geometry::query` in `geometry/query.rs`): the planes first, then the
-//! four-wide or binary BVH or, without a BVH, every primitive. Each query supplies its
-//! side of those steps through a trait (`Query`); the packet queries hand their last
-//! few rays over to the single-ray queries' own walk.
-//!
 //! # BVH
 //! Binned SAH (Wald 2007) over conservative `f32` boxes, built in parallel and
 //! deterministically; 32-byte nodes with `f32` bounds rounded outward for both
@@ -59,7 +51,6 @@ pub mod offset;
 pub mod packet_query;
 pub mod plane;
 pub mod polygon;
-mod query;
 pub(crate) mod ray_data;
 pub mod sphere;
 pub(crate) mod storage;
@@ -75,11 +66,11 @@ pub use sphere::Sphere;
 pub use triangle::Triangle;
 use triangle::{Tri4, TRI4_LANES};
 
+use crate::bvh::wide::Leaf;
 use crate::bvh::{Bounds3, BuildConfig, Bvh};
 use crate::float::Float;
 use crate::ray::{Hit, Ray};
 use crate::scene::desc::ShapeDesc;
-use query::{AnyRay, ClosestRay};
 use ray_data::RayData;
 use std::time::Instant;
 use storage::{make_ref, Prims, CONE, INDEX_MASK, NO_SHADING, PLANE, SPHERE, TAG_SHIFT, TRIANGLE};
@@ -421,7 +412,6 @@ impl<T: Float> Geometry<T> {
             }
     }
 
-    /// The any-hit query ([`AnyRay`]) after the test of the cached occluder `*hint`.
     #[inline(always)]
     fn any_hint<const WATERTIGHT: bool, const KINDS: u32>(
         &self,
@@ -431,19 +421,47 @@ impl<T: Float> Geometry<T> {
         let Some(rd) = RayData::new(ray) else {
             return false;
         };
-        let mut q = AnyRay::<T, WATERTIGHT, KINDS> {
-            g: self,
-            rd: &rd,
-            found: NO_HIT,
-        };
+        let limit = rd.t_limit;
+        let hits = |r: u32| self.test::<WATERTIGHT, KINDS>(r, &rd, limit).is_some();
         let cached = *hint;
-        if cached != NO_HINT && self.names_prim::<KINDS>(cached) && q.hits(cached) {
+        if cached != NO_HINT && self.names_prim::<KINDS>(cached) && hits(cached) {
             return true;
         }
-        self.query(&mut q);
+        let planes = if kind_in::<KINDS>(PLANE) {
+            self.prims.planes.len()
+        } else {
+            0
+        };
+        if let Some(i) = (0..planes).find(|&i| hits(make_ref(PLANE, i))) {
+            *hint = make_ref(PLANE, i);
+            return true;
+        }
+        let mut found = NO_HINT;
+        let hit = match &self.bvh {
+            Some(bvh) => {
+                let mut leaf = |l: Leaf<'_>, _| {
+                    found = self.leaf_any::<WATERTIGHT, KINDS>(l, &rd, limit)?;
+                    Some(limit)
+                };
+                if self.wide {
+                    bvh.traverse4::<T, true>(&rd.traversal, limit, leaf)
+                } else {
+                    bvh.traverse::<T, true>(&rd.traversal, limit, |refs: &[u32], t| {
+                        leaf(Leaf::Refs(refs), t)
+                    })
+                }
+            }
+            None => match self.all_refs().find(|&r| hits(r)) {
+                Some(r) => {
+                    found = r;
+                    true
+                }
+                None => false,
+            },
+        };
         // An unblocked ray clears the entry: lit regions then pay no hint test.
-        *hint = q.found;
-        q.found != NO_HIT
+        *hint = found;
+        hit
     }
 
     #[inline(never)]
@@ -494,6 +512,123 @@ impl<T: Float> Geometry<T> {
         &self.prims.tri4[first..first + count.div_ceil(TRI4_LANES as u32) as usize]
     }
 
+    /// The closest-hit leaf loop over a grouped leaf: offers every hit lane that is
+    /// still within `best.t` (an earlier lane of the same group may have lowered it).
+    /// The result is that of the reference loop over the same triangles, since
+    /// [`Geometry::offer`] keeps the smallest `(t, key)` in any order.
+    #[inline(always)]
+    fn closest_grouped<const WATERTIGHT: bool, const KINDS: u32>(
+        &self,
+        child: u32,
+        count: u32,
+        rd: &RayData<T>,
+        best: &mut Best<T>,
+    ) -> bool {
+        let mut improved = false;
+        if !kind_in::<KINDS>(TRIANGLE) {
+            return false;
+        }
+        for g in self.groups(child, count) {
+            if WATERTIGHT {
+                let h = g.intersect_watertight(rd, best.t);
+                let mut bits = h.bits;
+                while bits != 0 {
+                    let i = bits.trailing_zeros() as usize;
+                    bits &= bits - 1;
+                    if h.t[i] <= best.t {
+                        let r = make_ref(TRIANGLE, g.index[i] as usize);
+                        improved |= self.offer(best, r, (h.t[i], h.b1[i], h.b2[i]));
+                    }
+                }
+            } else {
+                for &i in &g.index {
+                    let r = make_ref(TRIANGLE, i as usize);
+                    if let Some(h) = self.test::<WATERTIGHT, KINDS>(r, rd, best.t) {
+                        improved |= self.offer(best, r, h);
+                    }
+                }
+            }
+        }
+        improved
+    }
+
+    /// The any-hit leaf loop over a grouped leaf: the reference of a triangle hit
+    /// within `limit`, if any.
+    #[inline(always)]
+    fn any_grouped<const WATERTIGHT: bool, const KINDS: u32>(
+        &self,
+        child: u32,
+        count: u32,
+        rd: &RayData<T>,
+        limit: T,
+    ) -> Option<u32> {
+        if !kind_in::<KINDS>(TRIANGLE) {
+            return None;
+        }
+        for g in self.groups(child, count) {
+            if WATERTIGHT {
+                let bits = g.intersect_watertight(rd, limit).bits;
+                if bits != 0 {
+                    let i = bits.trailing_zeros() as usize;
+                    return Some(make_ref(TRIANGLE, g.index[i] as usize));
+                }
+            } else {
+                for &i in &g.index {
+                    let r = make_ref(TRIANGLE, i as usize);
+                    if self.test::<WATERTIGHT, KINDS>(r, rd, limit).is_some() {
+                        return Some(r);
+                    }
+                }
+            }
+        }
+        None
+    }
+
+    /// The closest-hit loop over one leaf: offers every hit within `best.t`; whether
+    /// `best` changed.
+    #[inline(always)]
+    fn leaf_closest<const WATERTIGHT: bool, const KINDS: u32>(
+        &self,
+        l: Leaf<'_>,
+        rd: &RayData<T>,
+        best: &mut Best<T>,
+    ) -> bool {
+        match l {
+            Leaf::Refs(refs) => {
+                let mut improved = false;
+                for &r in refs {
+                    if let Some(h) = self.test::<WATERTIGHT, KINDS>(r, rd, best.t) {
+                        improved |= self.offer(best, r, h);
+                    }
+                }
+                improved
+            }
+            Leaf::Grouped { child, count } => {
+                self.closest_grouped::<WATERTIGHT, KINDS>(child, count, rd, best)
+            }
+        }
+    }
+
+    /// The any-hit loop over one leaf: the reference of a primitive hit within
+    /// `limit`, if any.
+    #[inline(always)]
+    fn leaf_any<const WATERTIGHT: bool, const KINDS: u32>(
+        &self,
+        l: Leaf<'_>,
+        rd: &RayData<T>,
+        limit: T,
+    ) -> Option<u32> {
+        match l {
+            Leaf::Refs(refs) => refs
+                .iter()
+                .copied()
+                .find(|&r| self.test::<WATERTIGHT, KINDS>(r, rd, limit).is_some()),
+            Leaf::Grouped { child, count } => {
+                self.any_grouped::<WATERTIGHT, KINDS>(child, count, rd, limit)
+            }
+        }
+    }
+
     /// Keeps the hit if it is closer, or equally close and given earlier.
     #[inline(always)]
     fn offer(&self, best: &mut Best<T>, r: u32, (t, b1, b2): (T, T, T)) -> bool {
@@ -515,7 +650,6 @@ impl<T: Float> Geometry<T> {
             .chain((0..p.cones.len()).map(|i| make_ref(CONE, i)))
     }
 
-    /// The closest-hit query ([`ClosestRay`]) of one ray.
     #[inline(always)]
     fn closest<const WATERTIGHT: bool, const KINDS: u32>(&self, ray: &Ray<T>) -> Option<Hit<T>> {
         let rd = RayData::new(ray)?;
@@ -525,19 +659,74 @@ impl<T: Float> Geometry<T> {
             b1: T::ZERO,
             b2: T::ZERO,
         };
-        self.query(&mut ClosestRay::<T, WATERTIGHT, KINDS> {
-            g: self,
-            rd: &rd,
-            best: &mut best,
-        });
+        let planes = if kind_in::<KINDS>(PLANE) {
+            self.prims.planes.len()
+        } else {
+            0
+        };
+        for i in 0..planes {
+            let r = make_ref(PLANE, i);
+            if let Some(h) = self.test::<WATERTIGHT, KINDS>(r, &rd, best.t) {
+                self.offer(&mut best, r, h);
+            }
+        }
+        match &self.bvh {
+            Some(bvh) => {
+                let t0 = best.t;
+                let mut leaf = |l: Leaf<'_>, _| {
+                    self.leaf_closest::<WATERTIGHT, KINDS>(l, &rd, &mut best)
+                        .then_some(best.t)
+                };
+                if self.wide {
+                    bvh.traverse4::<T, false>(&rd.traversal, t0, leaf);
+                } else {
+                    bvh.traverse::<T, false>(&rd.traversal, t0, |refs: &[u32], t| {
+                        leaf(Leaf::Refs(refs), t)
+                    });
+                }
+            }
+            None => {
+                for r in self.all_refs() {
+                    if let Some(h) = self.test::<WATERTIGHT, KINDS>(r, &rd, best.t) {
+                        self.offer(&mut best, r, h);
+                    }
+                }
+            }
+        }
         (best.r != NO_HIT).then(|| self.make_hit::<KINDS>(&best, ray))
     }
 
-    /// The any-hit query ([`AnyRay`]) of one ray.
     #[inline(always)]
     fn any<const WATERTIGHT: bool, const KINDS: u32>(&self, ray: &Ray<T>) -> bool {
-        let mut hint = NO_HINT;
-        self.any_hint::<WATERTIGHT, KINDS>(ray, &mut hint)
+        let Some(rd) = RayData::new(ray) else {
+            return false;
+        };
+        let limit = rd.t_limit;
+        let hits = |r: u32| self.test::<WATERTIGHT, KINDS>(r, &rd, limit).is_some();
+        let planes = if kind_in::<KINDS>(PLANE) {
+            self.prims.planes.len()
+        } else {
+            0
+        };
+        if (0..planes).any(|i| hits(make_ref(PLANE, i))) {
+            return true;
+        }
+        match &self.bvh {
+            Some(bvh) => {
+                let leaf = |l: Leaf<'_>, _| {
+                    self.leaf_any::<WATERTIGHT, KINDS>(l, &rd, limit)
+                        .map(|_| limit)
+                };
+                if self.wide {
+                    bvh.traverse4::<T, true>(&rd.traversal, limit, leaf)
+                } else {
+                    bvh.traverse::<T, true>(&rd.traversal, limit, |refs: &[u32], t| {
+                        leaf(Leaf::Refs(refs), t)
+                    })
+                }
+            }
+            None => self.all_refs().any(hits),
+        }
     }
 
     /// Fills in the hit record for the winning candidate of `ray` (only its origin and

@@ -14,12 +14,7 @@
 //! - triangles when the rays' watertight shear axes differ (the axis of largest
 //!   direction component), and the rays whose edge functions are exactly zero, which
 //!   the single-ray test recomputes in `f64`;
-//! - the brute-force mode (no BVH), which tests every primitive lane by lane;
-//! - the Möller–Trumbore test, which traces each ray alone.
-//!
-//! The order of the steps (planes, then the tree or brute force) is the query driver's,
-//! shared with single rays (`geometry/query.rs`); this file holds the packet queries'
-//! side of it (`ClosestPacket`, `AnyPacket`) and their lane kernels' glue.
+//! - the Möller–Trumbore test and the brute-force mode, which trace each ray alone.
 //!
 //! The rays are set up over the lanes (the values the single-ray kernels precompute per
 //! ray, computed with the same operations in SIMD registers); a ray's own scalar record
@@ -36,15 +31,13 @@
 //! The any-hit query of a packet (shadow rays) uses the same kernels: a ray leaves the
 //! packet at its first hit, and the walk ends when every ray is blocked.
 
-use super::query::{AnyRay, ClosestRay, Query};
 use super::ray_data::{PacketData, PacketShear, RayData, Shear, MAX_LANES};
 use super::sphere::sphere_packet;
-use super::storage::{make_ref, INDEX_MASK, SPHERE, TAG_SHIFT, TRIANGLE};
+use super::storage::{make_ref, INDEX_MASK, PLANE, SPHERE, TAG_SHIFT, TRIANGLE};
 use super::triangle::{triangle_packet, TRI4_LANES};
 use super::{kinds, Best, Geometry, TriangleTest, NO_HIT};
 use crate::bvh::packet_traverse::{PacketRay, PacketVisitor};
 use crate::bvh::wide::Leaf;
-use crate::bvh::Bvh;
 use crate::ray::{Hit, Ray};
 use core::cell::{Cell, UnsafeCell};
 use core::mem::MaybeUninit;
@@ -258,10 +251,13 @@ impl<'a, S: SimdF32> Setup<'a, S> {
 }
 
 impl Geometry<f32> {
-    /// Can the packet kernels serve this geometry (the watertight test)?
+    /// Can the packet kernels serve this geometry (a BVH and the watertight test)?
     #[inline(always)]
-    fn packet_kernels(&self) -> bool {
-        self.triangle_test == TriangleTest::Watertight
+    fn packet_bvh(&self) -> Option<&crate::bvh::Bvh> {
+        match (&self.bvh, self.triangle_test) {
+            (Some(bvh), TriangleTest::Watertight) => Some(bvh),
+            _ => None,
+        }
     }
 
     /// The closest-hit test of primitive `r` against the lanes `m` of the packet:
@@ -483,12 +479,12 @@ impl Geometry<f32> {
     ) {
         let n = S::LANES;
         assert!(n <= MAX_LANES && rays.len() >= n && out.len() >= n);
-        if !self.packet_kernels() {
+        let Some(bvh) = self.packet_bvh() else {
             for (o, r) in out[..n].iter_mut().zip(&rays[..n]) {
                 *o = r.as_ref().and_then(|r| self.intersect(r));
             }
             return;
-        }
+        };
         let rd = LaneData::new();
         let Some(su) = Setup::<S>::new(rays, &rd) else {
             out[..n].fill(None);
@@ -501,13 +497,31 @@ impl Geometry<f32> {
             b2: 0.0,
         }; MAX_LANES];
         each_lane(su.valid, |l| best[l].t = su.t_limits[l]);
-        self.query(&mut ClosestPacket {
-            g: self,
+        // Planes first, as the single-ray query does.
+        let mut t0 = su.t_limit;
+        if !self.prims.planes.is_empty() {
+            each_lane(su.valid, |l| {
+                let (r, b) = (su.lane(l), &mut best[l]);
+                for i in 0..self.prims.planes.len() {
+                    let p = make_ref(PLANE, i);
+                    if let Some(h) = self.test::<true, { kinds::ALL }>(p, r, b.t) {
+                        self.offer(b, p, h);
+                    }
+                }
+            });
+            t0 = best_t::<S>(&best);
+        }
+        let mut v = Closest {
+            geometry: self,
+            bvh,
             su: &su,
             best: &mut best,
-            t_max: su.t_limit,
-            switch,
-        });
+        };
+        if self.wide {
+            bvh.traverse4_packet(&su.ray, su.valid, t0, switch, &mut v);
+        } else {
+            bvh.traverse_packet(&su.ray, S::Mask::from_bitmask(su.valid), t0, &mut v);
+        }
         for (l, o) in out[..n].iter_mut().enumerate() {
             *o = match &rays[l] {
                 Some(r) if su.valid & (1 << l) != 0 && best[l].r != NO_HIT => {
@@ -541,25 +555,47 @@ impl Geometry<f32> {
     ) {
         let n = S::LANES;
         assert!(n <= MAX_LANES && rays.len() >= n && out.len() >= n);
-        if !self.packet_kernels() {
+        let Some(bvh) = self.packet_bvh() else {
             for (o, r) in out[..n].iter_mut().zip(&rays[..n]) {
                 *o = r.as_ref().is_some_and(|r| self.occluded(r));
             }
             return;
-        }
+        };
         out[..n].fill(false);
         let rd = LaneData::new();
         let Some(su) = Setup::<S>::new(rays, &rd) else {
             return;
         };
-        let mut q = AnyPacket {
-            g: self,
-            su: &su,
-            done: 0,
-            switch,
-        };
-        self.query(&mut q);
-        each_lane(q.done, |l| out[l] = true);
+        // Blocked lanes.
+        let mut done = 0u32;
+        if !self.prims.planes.is_empty() {
+            each_lane(su.valid, |l| {
+                let rd = su.lane(l);
+                let blocked = (0..self.prims.planes.len()).any(|i| {
+                    self.test::<true, { kinds::ALL }>(make_ref(PLANE, i), rd, rd.t_limit)
+                        .is_some()
+                });
+                done |= u32::from(blocked) << l;
+            });
+        }
+        let active = su.valid & !done;
+        if active != 0 {
+            let mut v = Any {
+                geometry: self,
+                bvh,
+                su: &su,
+                active,
+                done,
+            };
+            if self.wide {
+                bvh.traverse4_packet(&su.ray, active, su.t_limit, switch, &mut v);
+            } else {
+                let active = S::Mask::from_bitmask(active);
+                bvh.traverse_packet(&su.ray, active, su.t_limit, &mut v);
+            }
+            done = v.done;
+        }
+        each_lane(done, |l| out[l] = true);
     }
 }
 
@@ -669,102 +705,50 @@ fn dispatch<K: Kernel>(_isa: Isa, _kernel: K) -> K::Output {
     unreachable!("no SIMD instruction set off x86-64, so no packets");
 }
 
-/// The closest hits of a packet: the [`Query`] of [`Geometry::intersect_lanes`], and
-/// its side of the packet walk.
-struct ClosestPacket<'a, S: SimdF32> {
-    g: &'a Geometry<f32>,
+/// The closest-hit query's side of [`crate::bvh::Bvh::traverse4_packet`].
+struct Closest<'a, S: SimdF32> {
+    geometry: &'a Geometry<f32>,
+    bvh: &'a crate::bvh::Bvh,
     su: &'a Setup<'a, S>,
     best: &'a mut [Best<f32>; MAX_LANES],
-    /// The lanes' closest distances so far (before the walk).
-    t_max: S,
-    /// The hand-over threshold ([`switch`]).
-    switch: u32,
 }
 
-impl<S: SimdF32> Query<f32> for ClosestPacket<'_, S> {
-    const KINDS: u32 = kinds::ALL;
-
-    #[inline(always)]
-    fn refs(&mut self, refs: impl Iterator<Item = u32>) -> bool {
-        let su = self.su;
-        let mut improved = false;
-        for r in refs {
-            improved |= self.g.single_closest(r, su.valid, su, self.best);
-        }
-        if improved {
-            self.t_max = best_t::<S>(self.best);
-        }
-        false
-    }
-
-    #[inline(always)]
-    fn walk(&mut self, bvh: &Bvh, wide: bool) {
-        let su = self.su;
-        bvh.walk_packet(wide, &su.ray, su.valid, self.t_max, self.switch, self);
-    }
-}
-
-impl<S: SimdF32> PacketVisitor<S> for ClosestPacket<'_, S> {
+impl<S: SimdF32> PacketVisitor<S> for Closest<'_, S> {
     #[inline(always)]
     fn leaf(&mut self, leaf: Leaf<'_>, lanes: u32, t_max: S) -> Option<S> {
         Some(
-            self.g
+            self.geometry
                 .packet_leaf_closest(leaf, lanes, self.su, self.best, t_max),
         )
     }
 
     #[inline(always)]
     fn handover(&mut self, node: u32, lanes: u32, _t_max: S) -> Option<S> {
-        let (g, su) = (self.g, self.su);
-        let bvh = g.bvh.as_ref()?;
+        let g = self.geometry;
         each_lane(lanes, |l| {
-            ClosestRay::<f32, true, { kinds::ALL }> {
-                g,
-                rd: su.lane(l),
-                best: &mut self.best[l],
-            }
-            .walk_from(bvh, true, node);
+            let (rd, b) = (self.su.lane(l), &mut self.best[l]);
+            self.bvh
+                .traverse4_from::<f32, false>(node, &rd.traversal, b.t, |f, _| {
+                    g.leaf_closest::<true, { kinds::ALL }>(f, rd, b)
+                        .then_some(b.t)
+                });
         });
         Some(best_t::<S>(self.best))
     }
 }
 
-/// Which rays of a packet are blocked: the [`Query`] of [`Geometry::occluded_lanes`],
-/// and its side of the packet walk.
-struct AnyPacket<'a, S: SimdF32> {
-    g: &'a Geometry<f32>,
+/// The any-hit query's side of [`crate::bvh::Bvh::traverse4_packet`].
+struct Any<'a, S: SimdF32> {
+    geometry: &'a Geometry<f32>,
+    bvh: &'a crate::bvh::Bvh,
     su: &'a Setup<'a, S>,
+    /// The lanes traced.
+    active: u32,
     /// The lanes blocked so far.
     done: u32,
-    /// The hand-over threshold ([`switch`]).
-    switch: u32,
 }
 
-impl<S: SimdF32> Query<f32> for AnyPacket<'_, S> {
-    const KINDS: u32 = kinds::ALL;
-
-    #[inline(always)]
-    fn refs(&mut self, refs: impl Iterator<Item = u32>) -> bool {
-        let su = self.su;
-        for r in refs {
-            let m = su.valid & !self.done;
-            if m == 0 {
-                break;
-            }
-            self.done |= self.g.single_any(r, m, su);
-        }
-        su.valid & !self.done == 0
-    }
-
-    #[inline(always)]
-    fn walk(&mut self, bvh: &Bvh, wide: bool) {
-        let su = self.su;
-        let active = su.valid & !self.done;
-        bvh.walk_packet(wide, &su.ray, active, su.t_limit, self.switch, self);
-    }
-}
-
-impl<S: SimdF32> AnyPacket<'_, S> {
+impl<S: SimdF32> Any<'_, S> {
     /// Blocked lanes leave (their `t_max` becomes $-\infty$); `None` once every ray is
     /// blocked.
     #[inline(always)]
@@ -772,7 +756,7 @@ impl<S: SimdF32> AnyPacket<'_, S> {
         let gone = S::splat(f32::NEG_INFINITY);
         // Not `bool::then` with a closure, which could be left out of line without
         // the caller's instruction set (see `Setup::new`).
-        if self.su.valid & !self.done != 0 {
+        if self.active & !self.done != 0 {
             Some(S::select(S::Mask::from_bitmask(self.done), gone, t_max))
         } else {
             None
@@ -780,25 +764,29 @@ impl<S: SimdF32> AnyPacket<'_, S> {
     }
 }
 
-impl<S: SimdF32> PacketVisitor<S> for AnyPacket<'_, S> {
+impl<S: SimdF32> PacketVisitor<S> for Any<'_, S> {
     #[inline(always)]
     fn leaf(&mut self, leaf: Leaf<'_>, lanes: u32, t_max: S) -> Option<S> {
-        self.done |= self.g.packet_leaf_any(leaf, lanes & !self.done, self.su);
+        self.done |= self
+            .geometry
+            .packet_leaf_any(leaf, lanes & !self.done, self.su);
         self.update(t_max)
     }
 
     #[inline(always)]
     fn handover(&mut self, node: u32, lanes: u32, t_max: S) -> Option<S> {
-        let (g, su) = (self.g, self.su);
-        let bvh = g.bvh.as_ref()?;
+        let g = self.geometry;
         let mut done = self.done;
         each_lane(lanes & !done, |l| {
-            let mut q = AnyRay::<f32, true, { kinds::ALL }> {
-                g,
-                rd: su.lane(l),
-                found: NO_HIT,
-            };
-            done |= u32::from(q.walk_from(bvh, true, node)) << l;
+            let rd = self.su.lane(l);
+            let limit = rd.t_limit;
+            let hit = self
+                .bvh
+                .traverse4_from::<f32, true>(node, &rd.traversal, limit, |f, _| {
+                    g.leaf_any::<true, { kinds::ALL }>(f, rd, limit)
+                        .map(|_| limit)
+                });
+            done |= u32::from(hit) << l;
         });
         self.done = done;
         self.update(t_max)
