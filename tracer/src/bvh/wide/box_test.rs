@@ -3,7 +3,8 @@
 //! [`TraversalRay::hit_box`] computes for child `i` (the conservative test of Ize 2013).
 //!
 //! # Why the formula is written out here
-//! The other box tests call the one source of the formula, [`slab`]. This one writes
+//! The other box tests call the one source of the formula,
+//! [`slab`](crate::bvh::traverse::slab). This one writes
 //! its operations out, in the same order: it runs on `vecexpr`'s plain-array packets
 //! (`Packet<T, U4>`, for `f32` and `f64` alike), whose code depends on how the
 //! optimiser sees the lanes, and calling `slab` here, with the same operations,
