@@ -11,6 +11,10 @@
 //!   conservative slab test (Ize 2013).
 //! - [`wide`]: the same tree collapsed into four-wide nodes whose boxes are tested in
 //!   one packet, with the same ordered and early-exit traversals.
+//! - [`packet_traverse`]: packets of rays in SIMD lanes over either tree.
+//!
+//! Every box test is the one slab formula [`traverse::slab`] (the four-box test of a
+//! wide node writes its operations out, for speed: see [`wide::box_test`]).
 
 pub mod build;
 pub mod node;

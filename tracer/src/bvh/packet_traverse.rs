@@ -5,8 +5,8 @@
 //! tree together, a node is visited when any ray of the packet may hit something in it,
 //! and a mask carries which rays take part. Each node's box is tested against every ray
 //! at once with the same conservative slab test as [`TraversalRay::hit_box`] (Ize 2013),
-//! lane by lane and operation by operation, so lane `i` accepts a box exactly when the
-//! single ray `i` does; the leaf sees the rays that accept its box.
+//! the one formula [`slab`] over the lane type, so lane `i` accepts a box exactly
+//! when the single ray `i` does; the leaf sees the rays that accept its box.
 //!
 //! - [`Bvh::traverse4_packet`] (the default) walks the four-wide tree: the packet tests
 //!   the children of a node one after the other, each against all its rays, pushes the
@@ -25,12 +25,12 @@
 //! would reach with its current closest distance or a larger one, so each lane's result
 //! is the single ray's, bit for bit.
 
-use super::traverse::TraversalRay;
+use super::traverse::{slab, TraversalRay};
 use super::wide::{Leaf, Node4, EMPTY_SLOT, WIDTH};
 use super::Bvh;
 use core::mem::MaybeUninit;
 use vecexpr::simd::{SimdF32, SimdMask};
-use vecexpr::{Mask, Scalar};
+use vecexpr::Mask;
 
 /// A packet of rays prepared for box tests: per lane what [`TraversalRay`] holds.
 #[derive(Clone, Copy, Debug)]
@@ -103,19 +103,20 @@ impl<S: SimdF32> PacketRay<S> {
     #[inline(always)]
     #[allow(clippy::needless_range_loop)] // the axis indexes four arrays, as in `hit_box`
     pub fn hit_box(&self, b: &[[f32; 3]; 2], t_max: S) -> (S::Mask, S) {
-        let mut t_near = self.t_min;
-        let mut t_far = t_max * self.slack;
+        let mut t = (self.t_min, t_max * self.slack);
         for a in 0..3 {
             let (lo, hi) = (S::splat(b[0][a]), S::splat(b[1][a]));
             let near = S::select(self.neg[a], hi, lo);
             let far = S::select(self.neg[a], lo, hi);
-            let tn = (near - self.origin[a]) * self.inv_dir[a];
-            let tf = (far - self.origin[a]) * self.inv_far[a];
-            // minps/maxps rule: a NaN `tn`/`tf` leaves the running value unchanged.
-            t_near = Scalar::max(tn, t_near);
-            t_far = Scalar::min(tf, t_far);
+            t = slab(t, near, far, self.axis(a));
         }
-        (t_near.le(t_far), t_near)
+        (t.0.le(t.1), t.0)
+    }
+
+    /// The rays' `(origin, inv_dir, inv_far)` on axis `a`, as [`slab`] takes them.
+    #[inline(always)]
+    fn axis(&self, a: usize) -> (S, S, S) {
+        (self.origin[a], self.inv_dir[a], self.inv_far[a])
     }
 }
 
@@ -243,18 +244,13 @@ impl<S: SimdF32> PacketRay<S> {
     /// [`TraversalRay::hit_box`].
     #[inline(always)]
     fn hit_slot(&self, neg: [usize; 3], node: &Node4, i: usize, t_max: S) -> (S::Mask, S) {
-        let mut t_near = self.t_min;
-        let mut t_far = t_max * self.slack;
+        let mut t = (self.t_min, t_max * self.slack);
         for (a, &n) in neg.iter().enumerate() {
             let near = S::splat(node.bounds[n][a][i]);
             let far = S::splat(node.bounds[1 - n][a][i]);
-            let tn = (near - self.origin[a]) * self.inv_dir[a];
-            let tf = (far - self.origin[a]) * self.inv_far[a];
-            // minps/maxps rule: a NaN `tn`/`tf` leaves the running value unchanged.
-            t_near = Scalar::max(tn, t_near);
-            t_far = Scalar::min(tf, t_far);
+            t = slab(t, near, far, self.axis(a));
         }
-        (t_near.le(t_far), t_near)
+        (t.0.le(t.1), t.0)
     }
 }
 

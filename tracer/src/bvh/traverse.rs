@@ -87,23 +87,40 @@ impl<T: Real> TraversalRay<T> {
     /// (conservatively), else `None`.
     #[inline(always)]
     pub fn hit_box(&self, b: &[[f32; 3]; 2], t_max: T) -> Option<T> {
-        let mut t_near = self.t_min;
-        let mut t_far = t_max * self.slack;
+        let mut t = (self.t_min, t_max * self.slack);
         for a in 0..3 {
             let near = <T as Real>::from_f64(f64::from(b[self.neg[a] as usize][a]));
             let far = <T as Real>::from_f64(f64::from(b[!self.neg[a] as usize][a]));
-            let tn = (near - self.origin[a]) * self.inv_dir[a];
-            let tf = (far - self.origin[a]) * self.inv_far[a];
-            // minps/maxps rule: a NaN `tn`/`tf` leaves the running value unchanged.
-            t_near = Scalar::max(tn, t_near);
-            t_far = Scalar::min(tf, t_far);
+            let ray = (self.origin[a], self.inv_dir[a], self.inv_far[a]);
+            t = slab(t, near, far, ray);
         }
-        if t_near <= t_far {
-            Some(t_near)
-        } else {
-            None
-        }
+        (t.0 <= t.1).then_some(t.0)
     }
+}
+
+/// One axis of the slab test (Ize 2013, see the module docs), the one source of the
+/// formula for one ray against one box ([`TraversalRay::hit_box`]) and for a packet of
+/// rays against one box (`PacketRay::hit_box`, `PacketRay::hit_slot`, over the SIMD
+/// lane types). Each lane of `V` holds one ray–box pair: `(t_near, t_far)` are its
+/// running entry and exit distances (starting at `t_min` and at `t_max` times the slack
+/// factor), `near` and `far` the box's planes the ray meets first and last on this axis
+/// (picked by the sign of its direction), and `ray` its `(origin, inv_dir, inv_far)` on
+/// this axis (as in [`TraversalRay`]). Returns the narrowed distances; after the three
+/// axes the box is hit in the lanes where `t_near <= t_far`, and `t_near` is the entry
+/// distance.
+///
+/// The callers differ only in how they fill the lanes (which operands are splatted and
+/// how the planes are picked), which follows their data layout. The four-box test of a
+/// wide node (`TraversalRay::hit_box4_bits`) writes the same operations out instead,
+/// because calling this function there cost 10 % of the instructions of single rays;
+/// its module docs (`bvh/wide/box_test.rs`) give the measurement.
+#[inline(always)]
+pub fn slab<V: Scalar>((t_near, t_far): (V, V), near: V, far: V, ray: (V, V, V)) -> (V, V) {
+    let (origin, inv_dir, inv_far) = ray;
+    let tn = (near - origin) * inv_dir;
+    let tf = (far - origin) * inv_far;
+    // minps/maxps rule: a NaN `tn`/`tf` leaves the running value unchanged.
+    (Scalar::max(tn, t_near), Scalar::min(tf, t_far))
 }
 
 impl Bvh {

@@ -19,6 +19,12 @@
 //! The quadratic is solved from the point of the ray's line closest to the middle of the
 //! axis rather than from the origin: a distant origin makes $\rho$ and $w_\perp$ large,
 //! and then the three terms of the discriminant cancel even with the identity above.
+//!
+//! There is a single-ray kernel only: the packet queries ([`super::packet_query`]) test a
+//! cone with it lane by lane. A lane version would be a second source of this kernel
+//! (its range tests and single root for $A = 0$ branch per ray) for a primitive only
+//! one classic scene has (rings-s7), whose shadow rays stay single anyway
+//! (`crate::packets::shadow_packets`).
 
 use super::ray_data::RayData;
 use crate::ray::Ray;

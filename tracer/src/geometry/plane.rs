@@ -1,5 +1,9 @@
 //! Infinite planes. They have no finite bounds, so they live outside the BVH and are
 //! tested before it on every ray (a ground plane then also tightens `t_max` early).
+//!
+//! There is a single-ray kernel only: every query tests the planes once per ray before
+//! the walk, and a packet tests them with this kernel lane by lane, so a lane version
+//! would be a second source for one test per ray.
 
 use super::ray_data::RayData;
 use crate::ray::Ray;
