@@ -342,3 +342,57 @@ fn windowed_script_matches_offline_render() {
     assert!(status.success(), "{err}");
     check_screenshot(&shot);
 }
+
+/// The README's claim, for every shipped scene: from the scene's own camera (as the
+/// window submits it, through [`FlyCamera::desc`]), the converged image equals
+/// `tracer render --aa A` bit for bit.
+#[test]
+fn converged_view_equals_the_render_of_every_shipped_scene() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes");
+    let mut names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".nff"))
+        .collect();
+    names.sort();
+    assert!(names.len() >= 13, "{names:?}");
+    let (w, h) = (48, 36);
+    let mut differ = Vec::new();
+    for name in &names {
+        let desc = load(name);
+        let scene = Scene::<f32>::from_desc(&desc, &AccelOptions::default());
+        for aa in [2, 3] {
+            let k = Knobs {
+                aa,
+                threads: 2,
+                ..Knobs::default()
+            };
+            let mut engine =
+                Engine::new(desc.clone(), AccelOptions::default(), w, h, k).unwrap();
+            engine
+                .set_view(&FlyCamera::new(&desc.camera).desc(), &k)
+                .unwrap();
+            let got = converge(&mut engine);
+            let settings = Settings {
+                width: Some(w),
+                height: Some(h),
+                aa,
+                ..Settings::default()
+            };
+            let want = render(&scene, &settings);
+            let bits = |i: &Image| -> Vec<u32> {
+                i.pixels.iter().flatten().map(|c| c.to_bits()).collect()
+            };
+            if bits(&got) != bits(&want) {
+                let n = got
+                    .pixels
+                    .iter()
+                    .zip(&want.pixels)
+                    .filter(|(a, b)| a.map(f32::to_bits) != b.map(f32::to_bits))
+                    .count();
+                differ.push(format!("{name} aa {aa}: {n} pixels"));
+            }
+        }
+    }
+    assert!(differ.is_empty(), "viewer != render: {differ:?}");
+}
