@@ -40,6 +40,17 @@ impl Mode {
     }
 }
 
+/// The bar's look before tracing (parsing, building): a spinner and the time so far.
+const SPINNER: &str = "{msg:9} {spinner} {elapsed} elapsed";
+/// The bar's look from tracing on.
+const BAR: &str = "{msg:9} {bar:40} {pos}/{len} rows, {elapsed} elapsed, ETA {eta}";
+
+fn set_template(bar: &ProgressBar, template: &str) {
+    if let Ok(style) = ProgressStyle::with_template(template) {
+        bar.set_style(style);
+    }
+}
+
 /// Progress through the phases of a render, shown as [`Mode`] says.
 pub struct Feedback {
     mode: Mode,
@@ -55,11 +66,7 @@ impl Feedback {
     pub fn new(mode: Mode) -> Self {
         let bar = (mode == Mode::Bar).then(|| {
             let bar = ProgressBar::with_draw_target(Some(0), ProgressDrawTarget::stderr());
-            if let Ok(style) = ProgressStyle::with_template(
-                "{msg:9} {bar:40} {pos}/{len} rows, {elapsed} elapsed, ETA {eta}",
-            ) {
-                bar.set_style(style);
-            }
+            set_template(&bar, SPINNER);
             bar.enable_steady_tick(Duration::from_millis(200));
             bar
         });
@@ -85,6 +92,10 @@ impl Feedback {
             Mode::Silent => {}
             Mode::Bar => {
                 if let Some(bar) = &self.bar {
+                    // Rows are counted from the first traced; before, a spinner.
+                    if name == "tracing" {
+                        set_template(bar, BAR);
+                    }
                     bar.set_message(name.to_string());
                 }
             }

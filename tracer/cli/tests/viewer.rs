@@ -396,3 +396,50 @@ fn converged_view_equals_the_render_of_every_shipped_scene() {
     }
     assert!(differ.is_empty(), "viewer != render: {differ:?}");
 }
+
+/// At the command line: a still view of an NFF scene whose camera `--from` and `--angle`
+/// override converges to the same PNG bytes as `tracer render` with the same options.
+#[test]
+fn still_view_screenshot_equals_render_with_camera_options() {
+    let d = tmpdir("still");
+    let script = d.join("still.txt");
+    std::fs::write(&script, "set aa 2\n").unwrap();
+    let (shot, png) = (d.join("shot.png"), d.join("render.png"));
+    let camera = ["--from", "2.5,1,1.5", "--angle", "35"];
+    let size = ["--width", "40", "--height", "30"];
+    let out = tracer()
+        .arg("view")
+        .arg(scene_path("balls-s1.nff"))
+        .args(size)
+        .args(camera)
+        .args(["--aa", "1", "--threads", "2", "--no-window", "--script"])
+        .arg(&script)
+        .arg("--screenshot")
+        .arg(&shot)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let out = tracer()
+        .arg("render")
+        .arg(scene_path("balls-s1.nff"))
+        .args(size)
+        .args(camera)
+        .args(["--aa", "2", "-o"])
+        .arg(&png)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(std::fs::read(&shot).unwrap() == std::fs::read(&png).unwrap());
+    // Without the options the image differs: they were not ignored.
+    let out = tracer()
+        .arg("render")
+        .arg(scene_path("balls-s1.nff"))
+        .args(size)
+        .args(["--aa", "2", "-o"])
+        .arg(&png)
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    assert!(std::fs::read(&shot).unwrap() != std::fs::read(&png).unwrap());
+    let _ = std::fs::remove_dir_all(&d);
+}
