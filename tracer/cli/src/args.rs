@@ -266,8 +266,14 @@ impl PacketArgs {
     /// The packet choice these arguments give.
     ///
     /// # Errors
-    /// As [`Packets::from_args`].
+    /// As [`Packets::from_args`]; a named `--isa` with `--packets off` would be ignored, so it is an error.
     pub fn packets(&self) -> Result<Packets, String> {
+        if self.packets == "off" && self.isa != "auto" {
+            return Err(format!(
+                "--isa {} has no effect with --packets off (the instruction set is the packets')",
+                self.isa
+            ));
+        }
         Packets::from_args(&self.packets, &self.isa)
     }
 }

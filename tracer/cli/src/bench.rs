@@ -50,8 +50,8 @@ pub struct BenchArgs {
     /// Trace without the BVH (brute force).
     #[arg(long)]
     pub no_bvh: bool,
-    /// Traverse the binary BVH instead of the four-wide one.
-    #[arg(long)]
+    /// Traverse the binary BVH instead of the four-wide one (not with --no-bvh).
+    #[arg(long, conflicts_with = "no_bvh")]
     pub binary_bvh: bool,
     /// Output of povray-times, for the ratio column.
     #[arg(long, value_name = "FILE")]

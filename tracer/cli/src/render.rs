@@ -68,8 +68,9 @@ pub struct RenderArgs {
     /// Trace without the BVH (brute force), for comparison.
     #[arg(long)]
     pub no_bvh: bool,
-    /// Traverse the binary BVH instead of the four-wide one, for comparison.
-    #[arg(long)]
+    /// Traverse the binary BVH instead of the four-wide one, for comparison (not with
+    /// --no-bvh, which traverses none).
+    #[arg(long, conflicts_with = "no_bvh")]
     pub binary_bvh: bool,
     /// Parallel scheduler and tile size.
     #[command(flatten)]

@@ -228,6 +228,22 @@ fn spd_refuses_explicit_aa_depth_and_threshold() {
 }
 
 #[test]
+fn options_that_would_be_ignored_are_refused() {
+    let d = tmpdir("ignored");
+    let tetra = scene("tetra-s1.nff");
+    let err = refused(&render(
+        &tetra,
+        &d.join("x.png"),
+        &["--packets", "off", "--isa", "sse2"],
+    ));
+    assert!(err.contains("--isa sse2 has no effect"), "{err}");
+    let err = refused(&render(&tetra, &d.join("x.png"), &["--no-bvh", "--binary-bvh"]));
+    assert!(err.contains("--binary-bvh") && err.contains("--no-bvh"), "{err}");
+    assert!(files(&d).is_empty());
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
 fn one_side_keeps_the_aspect_ratio() {
     let d = tmpdir("aspect");
     let nff = small_nff(&d, 64, 48);
