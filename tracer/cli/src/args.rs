@@ -235,18 +235,29 @@ pub struct ScheduleArgs {
     /// Parallel scheduler: rayon work stealing, static row blocks, or a dynamic tile queue.
     #[arg(long, value_enum, default_value_t = Scheduler::Rayon)]
     pub scheduler: Scheduler,
-    /// Tile edge in pixels for --scheduler tiles.
-    #[arg(long, default_value_t = 16, value_parser = whole(1, 4096), allow_negative_numbers = true)]
-    pub tile: u32,
+    /// Tile edge in pixels for --scheduler tiles (default 16; refused with the others).
+    #[arg(long, value_parser = whole(1, 4096), allow_negative_numbers = true)]
+    pub tile: Option<u32>,
 }
+
+/// The tile edge without `--tile`.
+pub const DEFAULT_TILE: u32 = 16;
 
 impl ScheduleArgs {
     /// The schedule these arguments give.
-    pub fn schedule(&self) -> Schedule {
-        Schedule {
-            scheduler: self.scheduler,
-            tile: self.tile,
+    ///
+    /// # Errors
+    /// `--tile` with a scheduler other than `tiles`, which would ignore it.
+    pub fn schedule(&self) -> Result<Schedule, String> {
+        if let (Some(t), false) = (self.tile, self.scheduler == Scheduler::Tiles) {
+            return Err(format!(
+                "--tile {t} has no effect without --scheduler tiles"
+            ));
         }
+        Ok(Schedule {
+            scheduler: self.scheduler,
+            tile: self.tile.unwrap_or(DEFAULT_TILE),
+        })
     }
 }
 

@@ -81,7 +81,7 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
         depth: args.depth,
         runs: args.runs as usize,
         threads: args.threads.map(|t| t as usize),
-        schedule: args.schedule.schedule(),
+        schedule: args.schedule.schedule()?,
         accel: AccelOptions {
             use_bvh: !args.no_bvh,
             wide: !args.binary_bvh,

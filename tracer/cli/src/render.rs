@@ -124,6 +124,7 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     paths.extend(args.stats.as_deref());
     let staged = Staged::new(&paths)?;
     let packets = args.packets.packets()?;
+    let schedule = args.schedule.schedule()?;
     let feedback = Feedback::new(Mode::for_stderr(args.quiet, args.progress));
     feedback.phase("parsing", &args.scene.display().to_string());
     let (desc, warning) = load_scene_with_camera(&args.scene, &args.camera, args.precision)?;
@@ -142,7 +143,7 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
         threads: args.threads.map(|t| t as usize),
         spd: args.spd,
         effects: args.effects,
-        schedule: args.schedule.schedule(),
+        schedule,
         packets,
         ..Settings::default()
     };

@@ -237,6 +237,14 @@ fn options_that_would_be_ignored_are_refused() {
         &["--packets", "off", "--isa", "sse2"],
     ));
     assert!(err.contains("--isa sse2 has no effect"), "{err}");
+    let err = refused(&render(&tetra, &d.join("x.png"), &["--tile", "8"]));
+    assert!(err.contains("--tile 8 has no effect without --scheduler tiles"), "{err}");
+    let err = refused(&render(
+        &tetra,
+        &d.join("x.png"),
+        &["--scheduler", "static", "--tile", "8"],
+    ));
+    assert!(err.contains("--tile"), "{err}");
     let err = refused(&render(&tetra, &d.join("x.png"), &["--no-bvh", "--binary-bvh"]));
     assert!(err.contains("--binary-bvh") && err.contains("--no-bvh"), "{err}");
     assert!(files(&d).is_empty());
