@@ -270,6 +270,15 @@ fn bad_input_is_one_line_and_status_2() {
             ],
             "x.jpg: screenshot must end in .png".into(),
         ),
+        (
+            vec![
+                "--frames".into(),
+                "2".into(),
+                "--screenshot".into(),
+                d.join("nodir/x.png").display().to_string(),
+            ],
+            format!("{}: directory ", d.join("nodir/x.png").display()),
+        ),
     ];
     for (extra, want) in cases {
         let out = tracer()

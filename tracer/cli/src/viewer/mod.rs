@@ -142,6 +142,8 @@ pub fn run(args: &ViewArgs) -> Result<(), String> {
         if ext.as_deref() != Some("png") {
             return Err(format!("{}: screenshot must end in .png", p.display()));
         }
+        // Its directory exists and takes a file (a temporary one, removed at once).
+        drop(crate::output::Staged::new(&[p.as_path()])?);
     }
     let script = args.script.as_deref().map(script::load).transpose()?;
     let (desc, warning) = load_scene_with_camera(&args.scene, &args.camera, args.precision)?;
