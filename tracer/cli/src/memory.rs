@@ -6,17 +6,20 @@
 //! allocates: the image (three `f32` per pixel), the per-pixel radiance of a pass and its
 //! copy when the scheduler hands out tiles (three scalars of the precision per grid point),
 //! the running sums of supersampling, the eye-ray packets' blocks, the encoder's buffers,
-//! and the built scene (a fixed size per primitive, above what the geometry and BVH take
-//! in the SPD scenes). [`available`] reads `MemAvailable` from `/proc/meminfo`, lowered to
-//! the cgroup's `memory.max` headroom where one is set; elsewhere it is [`FIXED_CAP`].
+//! and the built scene (a fixed allowance per primitive, [`BYTES_PER_PRIMITIVE`]).
+//! [`available`] reads `MemAvailable` from `/proc/meminfo`, lowered to the cgroup's
+//! `memory.max` headroom where one is set; elsewhere it is [`FIXED_CAP`].
 
 use crate::output::ImageFormat;
 
 /// The memory assumed available where `/proc/meminfo` cannot be read.
 pub const FIXED_CAP: u64 = 16 << 30;
 
-/// Bytes a built primitive takes, geometry and BVH together, in `f32` (twice in `f64`):
-/// a bound above the largest the SPD scenes need (teapot, triangles with normals).
+/// Bytes allowed per primitive for the built scene in `f32` (twice in `f64`): a rough
+/// allowance. The built geometry and BVH of the SPD scenes take at most 94 bytes per
+/// primitive of the file (gears-s4, whose polygons become several triangles; 20 to 30 in
+/// the others, `bvh.bytes` of `--stats`); the rest is room for the build's temporaries.
+/// The scene as read is already in memory when the check runs.
 pub const BYTES_PER_PRIMITIVE: u64 = 512;
 
 /// The buffers of one render, in bytes.
