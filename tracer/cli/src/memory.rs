@@ -120,17 +120,22 @@ pub fn gib(n: u64) -> String {
 /// `memory.max` less its `memory.current`, or [`FIXED_CAP`] where there is no
 /// `/proc/meminfo`.
 pub fn available() -> u64 {
-    let Some(mem) = std::fs::read_to_string("/proc/meminfo")
-        .ok()
-        .and_then(|t| meminfo_available(&t))
-    else {
+    let read = |p: &str| std::fs::read_to_string(p).ok();
+    available_from(
+        read("/proc/meminfo").as_deref(),
+        read("/sys/fs/cgroup/memory.max").as_deref(),
+        read("/sys/fs/cgroup/memory.current").as_deref(),
+    )
+}
+
+/// [`available`] from the texts of `/proc/meminfo`, the cgroup's `memory.max` (`max`
+/// when unlimited) and `memory.current`, where they could be read.
+pub fn available_from(meminfo: Option<&str>, max: Option<&str>, current: Option<&str>) -> u64 {
+    let Some(mem) = meminfo.and_then(meminfo_available) else {
         return FIXED_CAP;
     };
-    let read = |p: &str| -> Option<u64> { std::fs::read_to_string(p).ok()?.trim().parse().ok() };
-    match (
-        read("/sys/fs/cgroup/memory.max"),
-        read("/sys/fs/cgroup/memory.current"),
-    ) {
+    let number = |t: Option<&str>| t.and_then(|t| t.trim().parse::<u64>().ok());
+    match (number(max), number(current)) {
         (Some(max), Some(cur)) => mem.min(max.saturating_sub(cur)),
         _ => mem,
     }
@@ -188,6 +193,22 @@ mod tests {
         assert!(Needs::estimate(&shape(512, 512))
             .check(FIXED_CAP, "x")
             .is_ok());
+    }
+
+    #[test]
+    fn available_is_meminfo_within_the_cgroup_or_a_fixed_cap() {
+        let info = "MemAvailable:    1000 kB\n";
+        assert_eq!(available_from(Some(info), None, None), 1_024_000);
+        assert_eq!(
+            available_from(Some(info), Some("max\n"), Some("5\n")),
+            1_024_000
+        );
+        assert_eq!(
+            available_from(Some(info), Some("600000\n"), Some("100000\n")),
+            500_000
+        );
+        assert_eq!(available_from(None, Some("1"), Some("0")), FIXED_CAP);
+        assert_eq!(available_from(Some("junk"), None, None), FIXED_CAP);
     }
 
     #[test]

@@ -213,4 +213,29 @@ mod tests {
         assert!(Staged::new(&[&a, &a]).is_err());
         fs::remove_dir_all(&d).unwrap();
     }
+
+    #[test]
+    fn a_failed_rename_takes_back_the_outputs_already_in_place() {
+        let d = std::env::temp_dir().join(format!("tracer-staged-rename-{}", std::process::id()));
+        let _ = fs::remove_dir_all(&d);
+        fs::create_dir_all(&d).unwrap();
+        let (a, b) = (d.join("a.png"), d.join("b.json"));
+        let mut s = Staged::new(&[&a, &b]).unwrap();
+        s.write(0, "image", |w| w.write_all(b"x")).unwrap();
+        s.write(1, "stats", |w| w.write_all(b"{}")).unwrap();
+        // A directory (not empty) appears where the second output goes: its rename fails.
+        fs::create_dir_all(b.join("in-the-way")).unwrap();
+        let err = s.commit().unwrap_err();
+        assert!(
+            err.starts_with(&format!("{}: cannot write output", b.display())),
+            "{err}"
+        );
+        assert!(!a.exists());
+        assert_eq!(
+            fs::read_dir(&d).unwrap().count(),
+            1,
+            "only the directory is left"
+        );
+        fs::remove_dir_all(&d).unwrap();
+    }
 }
