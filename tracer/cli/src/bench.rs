@@ -87,7 +87,10 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
             wide: !args.binary_bvh,
             ..AccelOptions::default()
         },
-        packets: args.packets.packets()?,
+        packets: {
+            args.packets.check_applies(args.precision, 1)?;
+            args.packets.packets()?
+        },
     };
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(opts.threads.unwrap_or(0))

@@ -123,6 +123,8 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     let mut paths = vec![args.output.as_path()];
     paths.extend(args.stats.as_deref());
     let staged = Staged::new(&paths)?;
+    args.packets
+        .check_applies(args.precision, if args.spd { 1 } else { args.aa })?;
     let packets = args.packets.packets()?;
     let schedule = args.schedule.schedule()?;
     let feedback = Feedback::new(Mode::for_stderr(args.quiet, args.progress));
