@@ -219,11 +219,16 @@ fn spd_refuses_explicit_aa_depth_and_threshold() {
         let err = refused(&render(&tetra, &d.join("x.png"), &args));
         assert!(err.contains(&extra[0][2..]), "{err}");
     }
-    ok(&render(
-        &tetra,
-        &d.join("x.png"),
-        &["--spd", "--width", "8", "--height", "8"],
-    ));
+    // The ray counts are --spd's output: printed without a terminal too, and with --quiet.
+    for quiet in [&[][..], &["--quiet"][..]] {
+        let mut args = vec!["--spd", "--width", "8", "--height", "8"];
+        args.extend(quiet);
+        let o = render(&tetra, &d.join("x.png"), &args);
+        ok(&o);
+        let err = stderr(&o);
+        assert_eq!(err.lines().count(), 1, "{err}");
+        assert!(err.starts_with("rays: eye 81 "), "{err}");
+    }
     let _ = std::fs::remove_dir_all(&d);
 }
 

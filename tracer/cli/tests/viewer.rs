@@ -452,3 +452,28 @@ fn still_view_screenshot_equals_render_with_camera_options() {
     assert!(std::fs::read(&shot).unwrap() != std::fs::read(&png).unwrap());
     let _ = std::fs::remove_dir_all(&d);
 }
+
+/// `--width` alone keeps the scene's aspect ratio, as in `tracer render`.
+#[test]
+fn width_alone_keeps_the_aspect_ratio() {
+    let d = tmpdir("aspect");
+    let nff = d.join("wide.nff");
+    std::fs::write(
+        &nff,
+        "v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 45\nhither 1\nresolution 64 48\n\
+         l 4 4 4\nf 1 0.5 0.2 0.7 0.3 20 0 1\ns 0 0 0 1\n",
+    )
+    .unwrap();
+    let shot = d.join("shot.png");
+    let out = tracer()
+        .arg("view")
+        .arg(&nff)
+        .args(["--width", "40", "--frames", "1", "--no-window", "--screenshot"])
+        .arg(&shot)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let img = Image::read_png(&shot).unwrap();
+    assert_eq!((img.width, img.height), (40, 30));
+    let _ = std::fs::remove_dir_all(&d);
+}

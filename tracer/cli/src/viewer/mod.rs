@@ -38,7 +38,7 @@ pub mod knobs;
 pub mod script;
 mod window;
 
-use crate::args::{load_scene_with_camera, parse_threshold, whole, CameraArgs};
+use crate::args::{image_size, load_scene_with_camera, parse_threshold, whole, CameraArgs};
 use crate::Precision;
 use camera::FlyCamera;
 use engine::{Engine, PassStats};
@@ -53,10 +53,12 @@ use tracer::stats::median;
 pub struct ViewArgs {
     /// Scene file: NFF (.nff, .nff.gz) or Wavefront OBJ (.obj).
     pub scene: PathBuf,
-    /// Image width (default: the scene's resolution).
+    /// Image width (default: the scene's resolution); given alone, the height follows the
+    /// scene's aspect ratio (rounded).
     #[arg(long, value_parser = whole(1, 8192), allow_negative_numbers = true)]
     pub width: Option<u32>,
-    /// Image height (default: the scene's resolution).
+    /// Image height (default: the scene's resolution); given alone, the width follows the
+    /// scene's aspect ratio (rounded).
     #[arg(long, value_parser = whole(1, 8192), allow_negative_numbers = true)]
     pub height: Option<u32>,
     /// Antialiasing: a still image converges to an AA x AA grid of rays per pixel.
@@ -150,8 +152,8 @@ pub fn run(args: &ViewArgs) -> Result<(), String> {
     if let Some(w) = warning {
         eprintln!("{w}");
     }
-    let (sw, sh) = desc.camera.resolution;
-    let (w, h) = (args.width.unwrap_or(sw), args.height.unwrap_or(sh));
+    let (w, h) = image_size(args.width, args.height, desc.camera.resolution, 8192)
+        .map_err(|e| format!("{}: {e}", args.scene.display()))?;
     let accel = AccelOptions {
         use_bvh: !args.no_bvh,
         ..AccelOptions::default()
