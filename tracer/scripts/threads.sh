@@ -21,8 +21,12 @@ for r in $(seq 1 "$rounds"); do
       set -- $c
       for t in $(seq 1 "$maxt"); do
         n=$(basename "$s" .nff)
+        # --tile only with the tile scheduler (the others refuse it); 16 names the
+        # default in the file names of the others.
+        tile=()
+        [ "$1" = tiles ] && tile=(--tile "$2")
         "$bin" render "$s" -o "$out/i.png" --width 512 --height 512 --depth 5 --threads "$t" \
-          --scheduler "$1" --tile "$2" --stats "$out/$n-$1-$2-$t-$r.json"
+          --scheduler "$1" "${tile[@]}" --stats "$out/$n-$1-$2-$t-$r.json"
       done
     done
   done

@@ -1,5 +1,6 @@
-//! Rendered images and their output formats (8-bit PNG, linear float PFM), written
-//! atomically: to a temporary file beside the target, then renamed.
+//! Rendered images and their output formats (8-bit PNG of the linear values tagged
+//! `gAMA` 1.0 or sRGB-encoded and tagged `sRGB`, linear float PFM), written atomically:
+//! to a temporary file beside the target, then renamed.
 
 use std::fs;
 use std::io::{self, BufWriter, Write};
@@ -31,11 +32,21 @@ impl Image {
         self.pixels[y as usize * self.width as usize + x as usize]
     }
 
-    /// 8-bit RGB bytes: each channel clamped to [0, 1], scaled by 255 and rounded.
+    /// 8-bit RGB bytes: each channel clamped to [0, 1], scaled by 255 and rounded (the
+    /// linear values, with no transfer curve).
     pub fn to_rgb8(&self) -> Vec<u8> {
         self.pixels
             .iter()
             .flat_map(|p| p.map(|c| (c.clamp(0.0, 1.0) * 255.0 + 0.5) as u8))
+            .collect()
+    }
+
+    /// 8-bit sRGB bytes: each channel clamped to [0, 1], encoded with the sRGB transfer
+    /// function ([`srgb_encode`]), scaled by 255 and rounded.
+    pub fn to_srgb8(&self) -> Vec<u8> {
+        self.pixels
+            .iter()
+            .flat_map(|p| p.map(|c| (srgb_encode(c.clamp(0.0, 1.0)) * 255.0 + 0.5) as u8))
             .collect()
     }
 
@@ -59,15 +70,32 @@ impl Image {
         }
     }
 
-    /// Encodes as an 8-bit RGB PNG.
+    /// Encodes as an 8-bit RGB PNG of the linear values ([`Image::to_rgb8`]), tagged as
+    /// such: a `gAMA` chunk of 1.0.
     pub fn write_png<W: Write>(&self, w: W) -> io::Result<()> {
+        self.write_png_as(w, PngEncoding::Linear)
+    }
+
+    /// Encodes as an 8-bit RGB PNG with `encoding`, tagged with it.
+    pub fn write_png_as<W: Write>(&self, w: W, encoding: PngEncoding) -> io::Result<()> {
         let mut enc = png::Encoder::new(w, self.width, self.height);
         enc.set_color(png::ColorType::Rgb);
         enc.set_depth(png::BitDepth::Eight);
+        let bytes = match encoding {
+            PngEncoding::Linear => {
+                enc.set_source_gamma(png::ScaledFloat::new(1.0));
+                self.to_rgb8()
+            }
+            PngEncoding::Srgb => {
+                enc.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
+                // The gAMA value the PNG specification pairs with sRGB, for decoders
+                // that read no sRGB chunk.
+                enc.set_source_gamma(png::ScaledFloat::from_scaled(45455));
+                self.to_srgb8()
+            }
+        };
         let mut writer = enc.write_header().map_err(io::Error::other)?;
-        writer
-            .write_image_data(&self.to_rgb8())
-            .map_err(io::Error::other)?;
+        writer.write_image_data(&bytes).map_err(io::Error::other)?;
         writer.finish().map_err(io::Error::other)
     }
 
@@ -113,6 +141,30 @@ impl Image {
             pixels,
         })
     }
+}
+
+/// How the 8-bit values of a PNG encode the image's linear values, and so how the file
+/// is tagged.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum PngEncoding {
+    /// The linear values themselves, clamped and scaled (as classic NFF renderers write
+    /// them), tagged `gAMA` 1.0.
+    #[default]
+    Linear,
+    /// sRGB-encoded values, tagged with an `sRGB` chunk (and the matching `gAMA`).
+    Srgb,
+}
+
+/// The sRGB transfer function (IEC 61966-2-1) of a linear value in [0, 1], computed in
+/// `f64`: $12.92 c$ up to $0.0031308$, else $1.055 c^{1/2.4} - 0.055$.
+pub fn srgb_encode(c: f32) -> f32 {
+    let c = f64::from(c);
+    let v = if c <= 0.003_130_8 {
+        12.92 * c
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    };
+    v as f32
 }
 
 /// Runs `write` into a temporary file next to `path`, syncs it, and renames it over

@@ -9,7 +9,7 @@
 //! The frame is a full render (Whitted shading at the given depth) with the given
 //! scheduler. Nothing here asserts on time: it only reports.
 
-use crate::args::{load_scene, PacketArgs, Precision, ScheduleArgs};
+use crate::args::{load_scene, whole, PacketArgs, Precision, ScheduleArgs};
 use rayon::prelude::*;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -30,19 +30,19 @@ pub struct BenchArgs {
     #[arg(required = true)]
     pub scenes: Vec<PathBuf>,
     /// Image width.
-    #[arg(long, default_value_t = 512, value_parser = clap::value_parser!(u32).range(1..=65536))]
+    #[arg(long, default_value_t = 512, value_parser = whole(1, 65536), allow_negative_numbers = true)]
     pub width: u32,
     /// Image height.
-    #[arg(long, default_value_t = 512, value_parser = clap::value_parser!(u32).range(1..=65536))]
+    #[arg(long, default_value_t = 512, value_parser = whole(1, 65536), allow_negative_numbers = true)]
     pub height: u32,
     /// Maximum ray depth of the frame.
-    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=64))]
+    #[arg(long, default_value_t = 5, value_parser = whole(1, 64), allow_negative_numbers = true)]
     pub depth: u32,
     /// Runs per measurement (medians are printed).
-    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=1000))]
+    #[arg(long, default_value_t = 5, value_parser = whole(1, 1000), allow_negative_numbers = true)]
     pub runs: u32,
     /// Worker threads (default: all cores).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    #[arg(long, value_parser = whole(1, 1024), allow_negative_numbers = true)]
     pub threads: Option<u32>,
     /// Arithmetic precision.
     #[arg(long, value_enum, default_value_t = Precision::F32)]
@@ -50,8 +50,8 @@ pub struct BenchArgs {
     /// Trace without the BVH (brute force).
     #[arg(long)]
     pub no_bvh: bool,
-    /// Traverse the binary BVH instead of the four-wide one.
-    #[arg(long)]
+    /// Traverse the binary BVH instead of the four-wide one (not with --no-bvh).
+    #[arg(long, conflicts_with = "no_bvh")]
     pub binary_bvh: bool,
     /// Output of povray-times, for the ratio column.
     #[arg(long, value_name = "FILE")]
@@ -81,13 +81,16 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
         depth: args.depth,
         runs: args.runs as usize,
         threads: args.threads.map(|t| t as usize),
-        schedule: args.schedule.schedule(),
+        schedule: args.schedule.schedule()?,
         accel: AccelOptions {
             use_bvh: !args.no_bvh,
             wide: !args.binary_bvh,
             ..AccelOptions::default()
         },
-        packets: args.packets.packets()?,
+        packets: {
+            args.packets.check_applies(args.precision, 1)?;
+            args.packets.packets()?
+        },
     };
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(opts.threads.unwrap_or(0))
@@ -108,9 +111,11 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
         rows.push(row);
     }
     print!("{}", table(&rows, &peer));
+    println!("\n{LEGEND}");
     let packets = packet_table(&rows);
     if !packets.is_empty() {
         print!("\n{packets}");
+        println!("\n{PACKET_LEGEND}");
     }
     Ok(())
 }
@@ -383,6 +388,21 @@ pub fn parse_peer_times(text: &str) -> Vec<(String, f64)> {
         })
         .collect()
 }
+
+/// What the columns of [`table`] mean, printed below it.
+pub const LEGEND: &str = "Columns: prims = primitives; build ms = geometry build \
+(conversion, BVH, reordering); nodes = BVH nodes; B/prim = bytes of BVH and primitives per \
+primitive; eye, shadow, reflect Mrays/s = millions of rays of that kind per wall-clock \
+second (per CPU second of all threads in parentheses); frame ms = wall time of one whole \
+render; frame CPU ms = its CPU time, all threads; frame Mrays/s = its rays of every kind per \
+second; POV-Ray ms = the --peer frame time; POV-Ray / tracer = that over frame ms (- without \
+--peer). Times are medians of --runs.";
+
+/// What the columns of [`packet_table`] mean, printed below it.
+pub const PACKET_LEGEND: &str = "Columns: packets = the instruction set of the packets; eye \
+single and eye packet Mrays/s = eye rays traced one at a time and in packets, millions per \
+wall-clock second (per CPU second in parentheses); packet / single = the speed-up; frame ms \
+= one whole render.";
 
 /// The Markdown table of `rows`, with the ratio peer frame time / tracer frame time
 /// where `peer` has the scene. Throughputs are rays per wall-clock second and, in

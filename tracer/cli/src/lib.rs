@@ -2,12 +2,14 @@
 //! subcommand parses its flags ([`clap`]) and calls the library.
 //!
 //! - [`render`]: `tracer render`, one image and its statistics;
-//! - [`bench`]: `tracer bench`, build time, ray throughput and frame time;
+//! - [`bench`](mod@bench): `tracer bench`, build time, ray throughput and frame time;
 //! - [`accuracy`]: `tracer accuracy`, image error against render time per setting;
 //! - [`viewer`]: `tracer view`, the interactive window (winit, softbuffer);
 //! - [`args`]: what they share: [`Precision`], the scheduler, packet and OBJ camera
 //!   options, and [`args::load_scene`], the one way every subcommand reads a scene;
-//! - [`progress`]: the terminal progress bar of `tracer render`.
+//! - [`output`]: the output files of `tracer render`, checked first, written together;
+//! - [`memory`]: the memory a render needs against what the machine has;
+//! - [`progress`]: the progress bar, plain progress lines and summary of `tracer render`.
 //!
 //! The library itself links none of these crates: a program that renders with `tracer`
 //! compiles no argument parser, window or progress bar.
@@ -15,6 +17,8 @@
 pub mod accuracy;
 pub mod args;
 pub mod bench;
+pub mod memory;
+pub mod output;
 pub mod progress;
 pub mod render;
 pub mod viewer;

@@ -21,7 +21,7 @@ struct Cli {
 
 #[derive(Subcommand, Debug)]
 enum Command {
-    /// Render a scene (.nff, .nff.gz or .obj) to an image (.png or .pfm).
+    /// Render a scene (.nff, .nff.gz or .obj) to an image (.png, .pfm or .exr).
     Render(render::RenderArgs),
     /// Measure build time, ray throughput by kind and frame time of scenes.
     Bench(bench::BenchArgs),
@@ -31,8 +31,37 @@ enum Command {
     Accuracy(accuracy::AccuracyArgs),
 }
 
+/// Parses the command line; help and version go to standard output as clap prints them,
+/// and any other clap error becomes one line on standard error (its first paragraph,
+/// without clap's usage and tips) and status 2.
+fn parse() -> Result<Cli, ExitCode> {
+    Cli::try_parse().map_err(|e| {
+        use clap::error::ErrorKind::{
+            DisplayHelp, DisplayHelpOnMissingArgumentOrSubcommand, DisplayVersion,
+        };
+        if matches!(
+            e.kind(),
+            DisplayHelp | DisplayVersion | DisplayHelpOnMissingArgumentOrSubcommand
+        ) {
+            e.exit();
+        }
+        let text = e.to_string();
+        let first: Vec<&str> = text
+            .lines()
+            .take_while(|l| !l.trim().is_empty())
+            .map(str::trim)
+            .collect();
+        eprintln!("{}", first.join(" "));
+        ExitCode::from(2)
+    })
+}
+
 fn main() -> ExitCode {
-    let done = match Cli::parse().command {
+    let cli = match parse() {
+        Ok(cli) => cli,
+        Err(code) => return code,
+    };
+    let done = match cli.command {
         Command::Render(args) => render::run(&args),
         Command::Bench(args) => bench::run(&args),
         Command::View(args) => viewer::run(&args),

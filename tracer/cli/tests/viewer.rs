@@ -270,6 +270,15 @@ fn bad_input_is_one_line_and_status_2() {
             ],
             "x.jpg: screenshot must end in .png".into(),
         ),
+        (
+            vec![
+                "--frames".into(),
+                "2".into(),
+                "--screenshot".into(),
+                d.join("nodir/x.png").display().to_string(),
+            ],
+            format!("{}: directory ", d.join("nodir/x.png").display()),
+        ),
     ];
     for (extra, want) in cases {
         let out = tracer()
@@ -341,4 +350,130 @@ fn windowed_script_matches_offline_render() {
     }
     assert!(status.success(), "{err}");
     check_screenshot(&shot);
+}
+
+/// The README's claim, for every shipped scene: from the scene's own camera (as the
+/// window submits it, through [`FlyCamera::desc`]), the converged image equals
+/// `tracer render --aa A` bit for bit.
+#[test]
+fn converged_view_equals_the_render_of_every_shipped_scene() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes");
+    let mut names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".nff"))
+        .collect();
+    names.sort();
+    assert!(names.len() >= 13, "{names:?}");
+    let (w, h) = (48, 36);
+    let mut differ = Vec::new();
+    for name in &names {
+        let desc = load(name);
+        let scene = Scene::<f32>::from_desc(&desc, &AccelOptions::default());
+        for aa in [2, 3] {
+            let k = Knobs {
+                aa,
+                threads: 2,
+                ..Knobs::default()
+            };
+            let mut engine =
+                Engine::new(desc.clone(), AccelOptions::default(), w, h, k).unwrap();
+            engine
+                .set_view(&FlyCamera::new(&desc.camera).desc(), &k)
+                .unwrap();
+            let got = converge(&mut engine);
+            let settings = Settings {
+                width: Some(w),
+                height: Some(h),
+                aa,
+                ..Settings::default()
+            };
+            let want = render(&scene, &settings);
+            let bits = |i: &Image| -> Vec<u32> {
+                i.pixels.iter().flatten().map(|c| c.to_bits()).collect()
+            };
+            if bits(&got) != bits(&want) {
+                let n = got
+                    .pixels
+                    .iter()
+                    .zip(&want.pixels)
+                    .filter(|(a, b)| a.map(f32::to_bits) != b.map(f32::to_bits))
+                    .count();
+                differ.push(format!("{name} aa {aa}: {n} pixels"));
+            }
+        }
+    }
+    assert!(differ.is_empty(), "viewer != render: {differ:?}");
+}
+
+/// At the command line: a still view of an NFF scene whose camera `--from` and `--angle`
+/// override converges to the same PNG bytes as `tracer render` with the same options.
+#[test]
+fn still_view_screenshot_equals_render_with_camera_options() {
+    let d = tmpdir("still");
+    let script = d.join("still.txt");
+    std::fs::write(&script, "set aa 2\n").unwrap();
+    let (shot, png) = (d.join("shot.png"), d.join("render.png"));
+    let camera = ["--from", "2.5,1,1.5", "--angle", "35"];
+    let size = ["--width", "40", "--height", "30"];
+    let out = tracer()
+        .arg("view")
+        .arg(scene_path("balls-s1.nff"))
+        .args(size)
+        .args(camera)
+        .args(["--aa", "1", "--threads", "2", "--no-window", "--script"])
+        .arg(&script)
+        .arg("--screenshot")
+        .arg(&shot)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let out = tracer()
+        .arg("render")
+        .arg(scene_path("balls-s1.nff"))
+        .args(size)
+        .args(camera)
+        .args(["--aa", "2", "-o"])
+        .arg(&png)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(std::fs::read(&shot).unwrap() == std::fs::read(&png).unwrap());
+    // Without the options the image differs: they were not ignored.
+    let out = tracer()
+        .arg("render")
+        .arg(scene_path("balls-s1.nff"))
+        .args(size)
+        .args(["--aa", "2", "-o"])
+        .arg(&png)
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    assert!(std::fs::read(&shot).unwrap() != std::fs::read(&png).unwrap());
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// `--width` alone keeps the scene's aspect ratio, as in `tracer render`.
+#[test]
+fn width_alone_keeps_the_aspect_ratio() {
+    let d = tmpdir("aspect");
+    let nff = d.join("wide.nff");
+    std::fs::write(
+        &nff,
+        "v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 45\nhither 1\nresolution 64 48\n\
+         l 4 4 4\nf 1 0.5 0.2 0.7 0.3 20 0 1\ns 0 0 0 1\n",
+    )
+    .unwrap();
+    let shot = d.join("shot.png");
+    let out = tracer()
+        .arg("view")
+        .arg(&nff)
+        .args(["--width", "40", "--frames", "1", "--no-window", "--screenshot"])
+        .arg(&shot)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let img = Image::read_png(&shot).unwrap();
+    assert_eq!((img.width, img.height), (40, 30));
+    let _ = std::fs::remove_dir_all(&d);
 }

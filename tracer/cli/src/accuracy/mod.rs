@@ -7,7 +7,7 @@
 //! - precision: `f32` against the `f64` reference;
 //! - recursion: fixed depths `1 ..= 9`, and adaptive thresholds `1e-1 ..= 1e-4` (with the
 //!   reference's depth as the cap);
-//! - arithmetic: each approximation of [`Arith`] alone and all together, in `f32` and in
+//! - arithmetic: each approximation of [`Arith`](tracer::arith::Arith) alone and all together, in `f32` and in
 //!   `f64`;
 //! - antialiasing: an `a` x `a` grid for `a = 1 ..= 4` (and the reference's 8), compared
 //!   with a finer 16x16 render instead.
@@ -39,7 +39,7 @@ pub use experiment::{measure, Case, Clock, Config, Knob, Options, Row, SceneRepo
 pub use metrics::{compare, pareto, Metrics};
 pub use report::{scene_name, summary, write_report};
 
-use crate::args::load_scene;
+use crate::args::{load_scene, whole};
 use crate::Precision;
 use std::path::PathBuf;
 
@@ -53,28 +53,28 @@ pub struct AccuracyArgs {
     #[arg(short, long, default_value = "accuracy-report")]
     pub output: PathBuf,
     /// Image width in pixels.
-    #[arg(long, default_value_t = 64, value_parser = clap::value_parser!(u32).range(1..=4096))]
+    #[arg(long, default_value_t = 64, value_parser = whole(1, 4096), allow_negative_numbers = true)]
     pub width: u32,
     /// Image height (default: keep the scene's aspect ratio).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=4096))]
+    #[arg(long, value_parser = whole(1, 4096), allow_negative_numbers = true)]
     pub height: Option<u32>,
     /// Timed runs per setting; the median is reported.
-    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..=100))]
+    #[arg(long, default_value_t = 3, value_parser = whole(1, 100), allow_negative_numbers = true)]
     pub runs: u32,
     /// Worker threads (default: all cores).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    #[arg(long, value_parser = whole(1, 1024), allow_negative_numbers = true)]
     pub threads: Option<u32>,
     /// Depth of the reference; depths 1 to this minus one are measured.
-    #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u32).range(1..=64))]
+    #[arg(long, default_value_t = 10, value_parser = whole(1, 64), allow_negative_numbers = true)]
     pub ref_depth: u32,
     /// Rays per pixel of the reference, as an A x A grid.
-    #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..=64))]
+    #[arg(long, default_value_t = 8, value_parser = whole(1, 64), allow_negative_numbers = true)]
     pub ref_aa: u32,
     /// Grid of the fine reference for the antialiasing knob.
-    #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u32).range(1..=64))]
+    #[arg(long, default_value_t = 16, value_parser = whole(1, 64), allow_negative_numbers = true)]
     pub fine_aa: u32,
     /// Largest antialiasing grid measured (1 to this).
-    #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(1..=64))]
+    #[arg(long, default_value_t = 4, value_parser = whole(1, 64), allow_negative_numbers = true)]
     pub max_aa: u32,
     /// Time settings by process CPU time (robust on a shared machine) or wall clock.
     #[arg(long, value_enum, default_value_t = Clock::Cpu)]

@@ -62,8 +62,14 @@ impl FlyCamera {
         *self = Self::new(&self.home);
     }
 
-    /// The pose as an NFF camera (`at` is one unit along the view direction).
+    /// The pose as an NFF camera: the scene's own camera, exactly as the file gives it,
+    /// while the pose is the one [`FlyCamera::new`] started at (so the still image equals
+    /// `tracer render` of the scene bit for bit); once moved, `at` is one unit along the
+    /// view direction and `up` the scene's, normalised.
     pub fn desc(&self) -> CameraDesc {
+        if *self == Self::new(&self.home) {
+            return self.home.clone();
+        }
         CameraDesc {
             from: arr(&self.from),
             at: arr(&(&self.from + &self.dir).eval()),
@@ -157,11 +163,17 @@ mod tests {
     #[test]
     fn starts_at_the_scene_camera() {
         let c = FlyCamera::new(&home());
-        let d = c.desc();
+        // Unmoved, the scene's camera exactly; moved, `at` one unit ahead.
+        assert_eq!(c.desc(), home());
+        assert_eq!(c.scale(), 10.0);
+        let mut moved = c.clone();
+        moved.translate(0.0, 0.0, 0.0);
+        assert_eq!(moved.desc(), home());
+        moved.set_angle(30.0);
+        let d = moved.desc();
         assert!(close(d.from, home().from));
         assert!(close(d.at, [0.0, -9.0, 2.0]));
-        assert_eq!(d.angle_deg, 40.0);
-        assert_eq!(c.scale(), 10.0);
+        assert_eq!(d.angle_deg, 30.0);
     }
 
     #[test]

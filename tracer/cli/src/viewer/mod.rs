@@ -38,7 +38,7 @@ pub mod knobs;
 pub mod script;
 mod window;
 
-use crate::args::{load_scene, parse_threshold, CameraArgs};
+use crate::args::{image_size, load_scene_with_camera, parse_threshold, whole, CameraArgs};
 use crate::Precision;
 use camera::FlyCamera;
 use engine::{Engine, PassStats};
@@ -53,23 +53,25 @@ use tracer::stats::median;
 pub struct ViewArgs {
     /// Scene file: NFF (.nff, .nff.gz) or Wavefront OBJ (.obj).
     pub scene: PathBuf,
-    /// Image width (default: the scene's resolution).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=8192))]
+    /// Image width (default: the scene's resolution); given alone, the height follows the
+    /// scene's aspect ratio (rounded).
+    #[arg(long, value_parser = whole(1, 8192), allow_negative_numbers = true)]
     pub width: Option<u32>,
-    /// Image height (default: the scene's resolution).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=8192))]
+    /// Image height (default: the scene's resolution); given alone, the width follows the
+    /// scene's aspect ratio (rounded).
+    #[arg(long, value_parser = whole(1, 8192), allow_negative_numbers = true)]
     pub height: Option<u32>,
     /// Antialiasing: a still image converges to an AA x AA grid of rays per pixel.
-    #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(1..=knobs::MAX_AA as i64))]
+    #[arg(long, default_value_t = 4, value_parser = whole(1, knobs::MAX_AA), allow_negative_numbers = true)]
     pub aa: u32,
     /// Maximum ray depth (1 = eye rays only).
-    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=knobs::MAX_DEPTH as i64))]
+    #[arg(long, default_value_t = 5, value_parser = whole(1, knobs::MAX_DEPTH), allow_negative_numbers = true)]
     pub depth: u32,
     /// Adaptive termination: skip secondary rays whose weight is below T (0 = off).
-    #[arg(long, default_value_t = 0.0, value_parser = parse_threshold)]
+    #[arg(long, default_value_t = 0.0, value_parser = parse_threshold, allow_negative_numbers = true)]
     pub threshold: f64,
     /// Rendering threads (default: all cores).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=knobs::MAX_THREADS as i64))]
+    #[arg(long, value_parser = whole(1, knobs::MAX_THREADS as u32), allow_negative_numbers = true)]
     pub threads: Option<u32>,
     /// Arithmetic precision of the whole tracer.
     #[arg(long, value_enum, default_value_t = Precision::F32)]
@@ -80,7 +82,7 @@ pub struct ViewArgs {
     /// Trace without the BVH (brute force).
     #[arg(long)]
     pub no_bvh: bool,
-    /// The camera of an OBJ scene.
+    /// The camera: frames an OBJ scene, overrides an NFF scene's.
     #[command(flatten)]
     pub camera: CameraArgs,
     /// Play a camera path (one command a line, one frame each), let the last view
@@ -89,7 +91,7 @@ pub struct ViewArgs {
     pub script: Option<PathBuf>,
     /// Benchmark: render N frames at one sample per pixel, each from a new camera
     /// position, print the median frame time, and exit.
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=100000))]
+    #[arg(long, value_name = "N", value_parser = whole(1, 100000), allow_negative_numbers = true)]
     pub frames: Option<u32>,
     /// PNG written at the end of --script or --frames, and by the screenshot key.
     #[arg(long, value_name = "OUT.png")]
@@ -142,11 +144,16 @@ pub fn run(args: &ViewArgs) -> Result<(), String> {
         if ext.as_deref() != Some("png") {
             return Err(format!("{}: screenshot must end in .png", p.display()));
         }
+        // Its directory exists and takes a file (a temporary one, removed at once).
+        drop(crate::output::Staged::new(&[p.as_path()])?);
     }
     let script = args.script.as_deref().map(script::load).transpose()?;
-    let desc = load_scene(&args.scene, &args.camera.obj_options(), args.precision)?;
-    let (sw, sh) = desc.camera.resolution;
-    let (w, h) = (args.width.unwrap_or(sw), args.height.unwrap_or(sh));
+    let (desc, warning) = load_scene_with_camera(&args.scene, &args.camera, args.precision)?;
+    if let Some(w) = warning {
+        eprintln!("{w}");
+    }
+    let (w, h) = image_size(args.width, args.height, desc.camera.resolution, 8192)
+        .map_err(|e| format!("{}: {e}", args.scene.display()))?;
     let accel = AccelOptions {
         use_bvh: !args.no_bvh,
         ..AccelOptions::default()
