@@ -17,6 +17,7 @@ suites!(
     vecexpr_big,
     vecexpr_edges,
     vecexpr_layout,
+    vecexpr_names,
     vecexpr_props
 );
 

@@ -63,9 +63,9 @@
 //! ```
 //! not packets of different widths,
 //! ```compile_fail,E0271
-//! use vecexpr::{Vector, Expr, F32x4, F32x8, typenum::U3};
-//! let a = Vector::<F32x4, U3>::zero();
-//! let b = Vector::<F32x8, U3>::zero();
+//! use vecexpr::{Vector, Expr, PacketF32x4, PacketF32x8, typenum::U3};
+//! let a = Vector::<PacketF32x4, U3>::zero();
+//! let b = Vector::<PacketF32x8, U3>::zero();
 //! // MUST FAIL: 4-lane and 8-lane packets in one expression.
 //! let _ = (&a + &b).eval();
 //! ```
@@ -112,7 +112,7 @@
 //! ```
 //! The control: every operation above with matching types compiles and runs.
 //! ```
-//! use vecexpr::{vec3, Expr, Vector, F32x4, typenum::{U2, U3, U4}};
+//! use vecexpr::{vec3, Expr, Vector, PacketF32x4, typenum::{U2, U3, U4}};
 //! let a = Vector::<f32, U3>::splat(1.0);
 //! let b = Vector::<f32, U3>::splat(2.0);
 //! assert_eq!(a.cross(&b), Vector::zero());
@@ -121,7 +121,7 @@
 //! let mut out = Vector::<f32, U3>::zero();
 //! out.assign(&a * 2.0f32);
 //! assert_eq!(out, b);
-//! let p = Vector::<F32x4, U3>::zero();
+//! let p = Vector::<PacketF32x4, U3>::zero();
 //! assert_eq!((&p + &p).eval(), p);
 //! let mut c = vec3(1.0f32, 2.0, 3.0);
 //! let c0 = c;

@@ -99,16 +99,20 @@ pub use vector::{approx_eq_scalar, vec2, vec3, vec4, LengthMismatch, Vector};
 pub type Vec3<T> = Vector<T, typenum::U3>;
 /// A 4-vector of `T`.
 pub type Vec4<T> = Vector<T, typenum::U4>;
-/// Eight `f32` lanes (one AVX2 register).
-pub type F32x8 = Packet<f32, typenum::U8>;
-/// Sixteen `f32` lanes (one AVX-512 register).
-pub type F32x16 = Packet<f32, typenum::U16>;
-/// Four `f32` lanes (one SSE register).
-pub type F32x4 = Packet<f32, typenum::U4>;
-/// Four `f64` lanes (one AVX2 register).
-pub type F64x4 = Packet<f64, typenum::U4>;
-/// Eight `f64` lanes (one AVX-512 register).
-pub type F64x8 = Packet<f64, typenum::U8>;
+/// Four `f32` lanes in an array, one SSE register's worth (`Packet<f32, U4>`).
+///
+/// The array packets are named `Packet` + lane type + `x` + lanes; the explicit SIMD
+/// registers of [`simd`] are `F32x4`, `F32x8` and `F32x16`, so both modules can be
+/// glob-imported together.
+pub type PacketF32x4 = Packet<f32, typenum::U4>;
+/// Eight `f32` lanes in an array, one AVX2 register's worth (`Packet<f32, U8>`).
+pub type PacketF32x8 = Packet<f32, typenum::U8>;
+/// Sixteen `f32` lanes in an array, one AVX-512 register's worth (`Packet<f32, U16>`).
+pub type PacketF32x16 = Packet<f32, typenum::U16>;
+/// Four `f64` lanes in an array, one AVX2 register's worth (`Packet<f64, U4>`).
+pub type PacketF64x4 = Packet<f64, typenum::U4>;
+/// Eight `f64` lanes in an array, one AVX-512 register's worth (`Packet<f64, U8>`).
+pub type PacketF64x8 = Packet<f64, typenum::U8>;
 
 /// The names most code needs, for `use vecexpr::prelude::*`.
 ///
