@@ -18,6 +18,7 @@ suites!(
     vecexpr_edges,
     vecexpr_layout,
     vecexpr_names,
+    vecexpr_nan,
     vecexpr_props
 );
 

@@ -519,33 +519,47 @@ pub mod naive {
         zip3(a, b, c, E::std_mul_add)
     }
 
-    /// The x86 `minps` rule: `if a < b { a } else { b }` (NaN in either gives `b`).
+    /// The order key of IEEE 754-2019 `minimum`/`maximum` for non-NaN values: the value
+    /// in `f64`, then `-0.0` before `+0.0`.
+    fn order_key<E: RefFloat>(x: E) -> (f64, bool) {
+        let w = x.to_f64();
+        (w, !w.is_sign_negative())
+    }
+    /// IEEE 754-2019 `minimum`: NaN if either operand is NaN, else the smaller with
+    /// `-0.0 < +0.0`.
     #[inline(never)]
-    pub fn min_rule<E: RefFloat>(a: E, b: E) -> E {
-        if a < b {
+    pub fn minimum<E: RefFloat>(a: E, b: E) -> E {
+        if a.is_nan() || b.is_nan() {
+            return E::NAN;
+        }
+        if order_key(a) <= order_key(b) {
             a
         } else {
             b
         }
     }
-    /// The x86 `maxps` rule: `if a > b { a } else { b }` (NaN in either gives `b`).
+    /// IEEE 754-2019 `maximum`: NaN if either operand is NaN, else the larger with
+    /// `+0.0 > -0.0`.
     #[inline(never)]
-    pub fn max_rule<E: RefFloat>(a: E, b: E) -> E {
-        if a > b {
+    pub fn maximum<E: RefFloat>(a: E, b: E) -> E {
+        if a.is_nan() || b.is_nan() {
+            return E::NAN;
+        }
+        if order_key(a) >= order_key(b) {
             a
         } else {
             b
         }
     }
-    /// Element-wise [`min_rule`].
+    /// Element-wise [`minimum`].
     #[inline(never)]
     pub fn min<E: RefFloat>(a: &[E], b: &[E]) -> Vec<E> {
-        zip(a, b, min_rule)
+        zip(a, b, minimum)
     }
-    /// Element-wise [`max_rule`].
+    /// Element-wise [`maximum`].
     #[inline(never)]
     pub fn max<E: RefFloat>(a: &[E], b: &[E]) -> Vec<E> {
-        zip(a, b, max_rule)
+        zip(a, b, maximum)
     }
     /// `if m[i] { a[i] } else { b[i] }`.
     #[inline(never)]
@@ -618,21 +632,21 @@ pub mod naive {
     pub fn length<E: RefFloat>(a: &[E]) -> E {
         length_squared(a).std_sqrt()
     }
-    /// Left fold with [`min_rule`] from the first element.
+    /// The least element: NaN if any is NaN, `-0.0` before `+0.0`.
     ///
     /// # Panics
     /// If `a` is empty.
     #[inline(never)]
     pub fn min_element<E: RefFloat>(a: &[E]) -> E {
-        a[1..].iter().fold(a[0], |acc, &x| min_rule(acc, x))
+        a[1..].iter().fold(a[0], |acc, &x| minimum(acc, x))
     }
-    /// Left fold with [`max_rule`] from the first element.
+    /// The greatest element: NaN if any is NaN, `+0.0` after `-0.0`.
     ///
     /// # Panics
     /// If `a` is empty.
     #[inline(never)]
     pub fn max_element<E: RefFloat>(a: &[E]) -> E {
-        a[1..].iter().fold(a[0], |acc, &x| max_rule(acc, x))
+        a[1..].iter().fold(a[0], |acc, &x| maximum(acc, x))
     }
 
     /// `a / |a|`, and the zero vector for a zero vector.

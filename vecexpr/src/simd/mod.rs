@@ -15,7 +15,9 @@
 //! scalar `f32` operation computes lane by lane (IEEE single precision, correctly
 //! rounded `+ - * / sqrt`, no contraction into FMA): `min`/`max` are `minps`/`maxps`,
 //! which implement the `if a < b { a } else { b }` rule of [`Scalar::min`] (NaN gives
-//! the second operand). Only [`Scalar::mul_add`] fuses, as it does for `f32`.
+//! the second operand), and [`Scalar::minimum`]/[`Scalar::maximum`] (the NaN-propagating
+//! rule of every minimum and maximum on vectors) take three to five instructions. Only
+//! [`Scalar::mul_add`] fuses, as it does for `f32`.
 //!
 //! # Dispatch
 //! [`Isa::detect`] finds the widest instruction set of the running CPU;
