@@ -19,7 +19,8 @@ suites!(
     vecexpr_layout,
     vecexpr_names,
     vecexpr_nan,
-    vecexpr_props
+    vecexpr_props,
+    vecexpr_scalar_left
 );
 
 /// Files of this directory that are not test modules: the library and the

@@ -56,6 +56,9 @@
 //! let n = Vector::<P, U3>::from_fn(|c| P::splat(if c == 1 { 1.0 } else { 0.0 }));
 //! let r = i.reflect(&n); // the same source as for one f32 ray
 //! assert_eq!(r[1], P::splat(1.0));
+//! // A plain float scales every lane, on either side of the operator.
+//! assert_eq!((2.0 * &r).eval(), (&r * 2.0).eval());
+//! assert_eq!((0.5 * r).eval()[1], P::splat(0.5));
 //! ```
 //!
 //! # Fused multiply-add
