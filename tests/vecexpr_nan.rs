@@ -4,8 +4,7 @@
 //! operand is NaN and orders `-0.0` below `+0.0` (IEEE 754-2019 `minimum`/`maximum`);
 //! a sum is NaN when any term is. Inputs are dense in NaN, signed zeros and infinities.
 
-#[path = "prop.rs"]
-mod prop;
+use crate::prop;
 
 use integration_tests::{naive, RefFloat};
 use proptest::prelude::*;

@@ -13,8 +13,7 @@
 //! variants of an operator (owned operands, lane scalars, expression operands) are
 //! covered by a few deep trees rather than one expression each.
 
-#[path = "prop.rs"]
-mod prop;
+use crate::prop;
 
 use integration_tests::{
     assert_close, assert_expr, assert_same, assert_scalar_same, assert_vec_same, broadcast, build,

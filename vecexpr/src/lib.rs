@@ -79,6 +79,7 @@ mod eval;
 pub mod expr;
 mod geometry;
 pub mod guide;
+pub mod matrix;
 mod meta;
 pub mod op;
 mod ops;
@@ -92,6 +93,7 @@ pub use expr::{
     select, Binary, Compare, Conform, Dim3, Expr, ExprOf, Map, MaskAnd, MaskExpr, MaskNot, MaskOr,
     MulAdd, Operand, Owned, Refracted, SameDim, SameScalar, Select, Splat, Unary,
 };
+pub use matrix::{Mat2, Mat3, Mat4, MatExpr, Matrix};
 pub use meta::{powi, Pow};
 pub use packet::{Packet, PacketMask};
 pub use scalar::{LaneBits, Mask, Real, Scalar};
