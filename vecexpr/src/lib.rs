@@ -79,6 +79,7 @@ mod eval;
 pub mod expr;
 mod geometry;
 pub mod guide;
+mod interop;
 pub mod matrix;
 mod meta;
 pub mod op;

@@ -64,6 +64,12 @@ impl<T, N: ArrayLength> Vector<T, N> {
         self.data
     }
 
+    /// The underlying generic array, borrowed.
+    #[inline(always)]
+    pub fn as_generic_array(&self) -> &GenericArray<T, N> {
+        &self.data
+    }
+
     /// A vector whose element `i` is `f(i)`.
     #[inline(always)]
     pub fn from_fn(f: impl FnMut(usize) -> T) -> Self {
