@@ -112,6 +112,20 @@ pub trait Expr: Sized {
     /// in the last bit; this node asks for it explicitly. On a target without hardware FMA
     /// (plain `x86-64`) each element becomes a library call, so build with
     /// `-C target-cpu=x86-64-v3` or newer when using it in hot code.
+    ///
+    /// # Examples
+    /// ```
+    /// use vecexpr::{vec3, Expr};
+    /// let (x, a, c) = (vec3(1.0f64, 2.0, 3.0), vec3(2.0f64, 2.0, 2.0), vec3(0.5f64, 0.5, 0.5));
+    /// assert_eq!(x.mul_add(&a, &c).eval(), vec3(2.5, 4.5, 6.5));
+    /// // Scalars broadcast: x * 2 + 1.
+    /// assert_eq!(x.mul_add(2.0, 1.0).eval(), vec3(3.0, 5.0, 7.0));
+    /// // One rounding: (1 + e)(1 - e) - 1 is -e^2 exactly, where the unfused form gives 0.
+    /// let e = f64::EPSILON;
+    /// let fused = vec3(1.0 + e, 0.0, 0.0).mul_add(1.0 - e, -1.0).eval();
+    /// assert_eq!(fused[0], -e * e);
+    /// assert_eq!((&vec3(1.0 + e, 0.0, 0.0) * (1.0 - e) - 1.0).eval()[0], 0.0);
+    /// ```
     #[inline(always)]
     fn mul_add<A, C>(self, a: A, c: C) -> MulAdd<Self, A::Expr, C::Expr>
     where
@@ -146,7 +160,17 @@ pub trait Expr: Sized {
     fn scale(self, s: Self::Scalar) -> Binary<Self, Splat<Self::Scalar, Self::Dim>, MulOp> {
         Binary::new(self, Splat::new(s))
     }
-    /// Applies `f` to every element, lazily.
+    /// Applies `f` to every element, lazily (inside the one evaluation loop, like any
+    /// node).
+    ///
+    /// # Examples
+    /// ```
+    /// use vecexpr::{vec3, Expr, Real};
+    /// let v = vec3(0.0f32, 1.5, -2.25);
+    /// assert_eq!(v.map(Real::floor).eval(), vec3(0.0, 1.0, -3.0));
+    /// // A closure in a larger tree: (2 v)^2 + 1.
+    /// assert_eq!((&v * 2.0).map(|x| x * x).sum(), 0.0 + 9.0 + 20.25);
+    /// ```
     #[inline(always)]
     fn map<F: Fn(Self::Scalar) -> Self::Scalar>(self, f: F) -> Map<Self, F> {
         Map { inner: self, f }
@@ -367,6 +391,23 @@ pub trait Expr: Sized {
     /// [`Expr::refract`] for any scalar, packets included: returns the refracted
     /// direction and a mask that is true where refraction happened. Lanes with total
     /// internal reflection hold the zero vector.
+    ///
+    /// # Examples
+    /// ```
+    /// use vecexpr::{Expr, Mask, Packet, Scalar, Vector, typenum::{U2, U3}};
+    /// type P = Packet<f64, U2>;
+    /// // Two rays leaving glass (eta = 1.5): lane 0 along the normal, lane 1 at a
+    /// // grazing angle beyond the critical one.
+    /// let i = Vector::<P, U3>::from([
+    ///     P::from_fn(|l| [0.0, 0.8][l]),
+    ///     P::from_fn(|l| [-1.0, -0.6][l]),
+    ///     P::splat(0.0),
+    /// ]);
+    /// let n = Vector::<P, U3>::from([P::splat(0.0), P::splat(1.0), P::splat(0.0)]);
+    /// let (t, refracted) = i.refract_masked(&n, P::splat(1.5));
+    /// assert!(refracted.test(0) && !refracted.test(1));
+    /// assert_eq!((t[1].lane(0), t[1].lane(1)), (-1.0, 0.0)); // the TIR lane is zero
+    /// ```
     #[inline(always)]
     fn refract_masked<R: Operand<Self::Scalar, Self::Dim>>(
         self,
