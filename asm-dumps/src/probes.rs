@@ -285,6 +285,45 @@ pub fn mat3_vec3_glam_mat3a(m: &Mat3A, v: &Vec3A, out: &mut Vec3A) {
     *out = *m * *v;
 }
 
+/// `vecexpr::Mat3<f32> * Vector<f32, U3>` (`vecexpr::Matrix`, column-major).
+#[unsafe(no_mangle)]
+#[inline(never)]
+pub fn mat3_vec3_matrix(m: &vecexpr::Mat3<f32>, v: &Vec3F32, out: &mut Vec3F32) {
+    *out = m * v;
+}
+
+/// `vecexpr::Mat4<f32> * Vector<f32, U4>`.
+#[unsafe(no_mangle)]
+#[inline(never)]
+pub fn mat4_vec4_matrix(m: &vecexpr::Mat4<f32>, v: &Vec4F32, out: &mut Vec4F32) {
+    *out = m * v;
+}
+
+/// glam's `Mat4 * Vec4`.
+#[unsafe(no_mangle)]
+#[inline(never)]
+pub fn mat4_vec4_glam_mat4(m: &glam::Mat4, v: &glam::Vec4, out: &mut glam::Vec4) {
+    *out = *m * *v;
+}
+
+/// `vecexpr::Mat4<f32> * vecexpr::Mat4<f32>`.
+#[unsafe(no_mangle)]
+#[inline(never)]
+pub fn mat4_mat4_matrix(
+    a: &vecexpr::Mat4<f32>,
+    b: &vecexpr::Mat4<f32>,
+    out: &mut vecexpr::Mat4<f32>,
+) {
+    *out = a * b;
+}
+
+/// glam's `Mat4 * Mat4`.
+#[unsafe(no_mangle)]
+#[inline(never)]
+pub fn mat4_mat4_glam_mat4(a: &glam::Mat4, b: &glam::Mat4, out: &mut glam::Mat4) {
+    *out = *a * *b;
+}
+
 // ----- vecexpr's padded single 3-vector (`vecexpr::Vec3A`) ---------------------------------
 
 /// Reflects one `vecexpr::Vec3A` (16-byte aligned, one register).

@@ -136,6 +136,28 @@ fn refract_normalize_and_friends_agree_with_glam() {
     let mut gm = Vec3A::ZERO;
     mat3_vec3_glam_mat3a(&Mat3A::from_cols_array_2d(&cols), &Vec3A::from(b), &mut gm);
     assert!(close(m.into_array(), gm));
+    let mut mm = Vec3F32::zero();
+    mat3_vec3_matrix(&vecexpr::Mat3::from_cols(cols.map(Vec3F32::from)), &b.into(), &mut mm);
+    assert_eq!(mm, m);
+
+    // 4×4: vecexpr's Matrix against glam's Mat4, bit for bit (both sum the columns in
+    // order, without FMA on the test's build).
+    let c4: [[f32; 4]; 4] = core::array::from_fn(|c| core::array::from_fn(|r| (r * 4 + c) as f32 - 6.5));
+    let v4 = [1.0f32, -2.0, 0.5, 3.0];
+    let m4 = vecexpr::Mat4::from_cols(c4.map(Vec4F32::from));
+    let g4 = glam::Mat4::from_cols_array_2d(&c4);
+    let mut mv = Vec4F32::zero();
+    mat4_vec4_matrix(&m4, &v4.into(), &mut mv);
+    let mut gv = glam::Vec4::ZERO;
+    mat4_vec4_glam_mat4(&g4, &glam::Vec4::from(v4), &mut gv);
+    assert_eq!(mv.into_array(), gv.to_array());
+    let mut mp = vecexpr::Mat4::zero();
+    mat4_mat4_matrix(&m4, &m4.transpose(), &mut mp);
+    let mut gp = glam::Mat4::ZERO;
+    mat4_mat4_glam_mat4(&g4, &g4.transpose(), &mut gp);
+    for c in 0..4 {
+        assert_eq!(mp.col(c).into_array(), gp.col(c).to_array(), "column {c}");
+    }
 }
 
 #[test]

@@ -575,14 +575,23 @@ pub trait MatMulRhs<T, L> {
     fn mul_by(self, lhs: L) -> Self::Output;
 }
 
-/// `lhs * v` for an evaluated vector `v` with as many elements as `lhs` has columns:
-/// each element summed left to right over the columns.
+/// `lhs * v` for an evaluated vector `v` with as many elements as `lhs` has columns
+/// (`K` = `L::Cols`, proved by [`InnerDim`] at the caller): each element summed left to
+/// right over the columns, as a linear combination of the columns. Index loops over the
+/// compile-time dimensions, so after inlining there is no loop, bounds check or call.
 #[inline(always)]
-fn mat_vec<L: MatExpr>(lhs: &L, v: &[L::Scalar]) -> Vector<L::Scalar, L::Rows> {
-    let mut y = Vector::from_fn(|r| lhs.coeff(r, 0) * v[0]);
-    for (k, &x) in v.iter().enumerate().take(L::Cols::USIZE).skip(1) {
-        for (r, yr) in y.iter_mut().enumerate() {
-            *yr += lhs.coeff(r, k) * x;
+#[allow(clippy::needless_range_loop)]
+fn mat_vec<L: MatExpr, K: ArrayLength>(
+    lhs: &L,
+    v: &Vector<L::Scalar, K>,
+) -> Vector<L::Scalar, L::Rows> {
+    assert!(K::USIZE == L::Cols::USIZE && K::USIZE > 0);
+    let x0 = v[0];
+    let mut y = Vector::from_fn(|r| lhs.coeff(r, 0) * x0);
+    for k in 1..K::USIZE {
+        let x = v[k];
+        for r in 0..L::Rows::USIZE {
+            y[r] += lhs.coeff(r, k) * x;
         }
     }
     y
@@ -612,9 +621,7 @@ macro_rules! vec_rhs {
             type Output = Vector<L__::Scalar, L__::Rows>;
             #[inline(always)]
             fn mul_by(self, lhs: L__) -> Self::Output {
-                assert!(L__::Cols::USIZE > 0, "a matrix with no columns");
-                let v = self.eval();
-                mat_vec(&lhs, v.as_slice())
+                mat_vec(&lhs, &self.eval())
             }
         }
     };
@@ -637,8 +644,7 @@ where
     type Output = Vector<T, L::Rows>;
     #[inline(always)]
     fn mul_by(self, lhs: L) -> Self::Output {
-        assert!(L::Cols::USIZE > 0, "a matrix with no columns");
-        mat_vec(&lhs, self.as_slice())
+        mat_vec(&lhs, &self)
     }
 }
 
@@ -656,11 +662,10 @@ macro_rules! mat_rhs {
                 Matrix<L__::Scalar, L__::Rows, <<$ty as MatLeaf>::Expr as MatExpr>::Cols>;
             #[inline(always)]
             fn mul_by(self, lhs: L__) -> Self::Output {
-                assert!(L__::Cols::USIZE > 0, "a matrix with no columns");
                 let a = lhs.eval();
                 let b = self.into_leaf().eval();
                 Matrix {
-                    cols: GenericArray::generate(|p| mat_vec(&&a, b.cols[p].as_slice())),
+                    cols: GenericArray::generate(|p| mat_vec(&&a, &b.cols[p])),
                 }
             }
         }
