@@ -61,6 +61,16 @@
 //! assert_eq!((0.5 * r).eval()[1], P::splat(0.5));
 //! ```
 //!
+//! # Matrices
+//! [`Matrix<T, R, C>`](Matrix) (column-major, [`Mat3`], [`Mat4`], ...) has the same lazy
+//! element-wise operators through [`MatExpr`], and products whose inner dimensions are
+//! checked at compile time:
+//! ```
+//! use vecexpr::{vec3, Mat3, MatExpr};
+//! let scale = (Mat3::<f32>::identity() * 2.0).eval();
+//! assert_eq!(&scale * &vec3(1.0, 2.0, 3.0), vec3(2.0, 4.0, 6.0));
+//! ```
+//!
 //! # Fused multiply-add
 //! Rust never contracts `a * b + c` into an FMA, so results are reproducible across
 //! targets. Ask for it with [`Expr::mul_add`]; it changes the last bits.
@@ -136,7 +146,7 @@ pub mod prelude {
     pub use crate::generic_array::ArrayLength;
     pub use crate::typenum::{U2, U3, U4};
     pub use crate::{
-        select, vec2, vec3, vec4, Expr, ExprOf, Mask, MaskExpr, Operand, Packet, Real, Scalar,
-        Vec3, Vec3A, Vec4, Vector,
+        select, vec2, vec3, vec4, Expr, ExprOf, Mask, MaskExpr, Mat2, Mat3, Mat4, MatExpr, Matrix,
+        Operand, Packet, Real, Scalar, Vec3, Vec3A, Vec4, Vector,
     };
 }
