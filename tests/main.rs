@@ -12,16 +12,23 @@ macro_rules! suites {
     };
 }
 
+/// The property-test runner and input strategies, shared by the property tests.
+mod prop;
+
 suites!(
     compile_fail,
     vecexpr_big,
     vecexpr_edges,
     vecexpr_layout,
-    vecexpr_props
+    vecexpr_matrix,
+    vecexpr_names,
+    vecexpr_nan,
+    vecexpr_props,
+    vecexpr_scalar_left
 );
 
 /// Files of this directory that are not test modules: the library and the
-/// property-test glue that `vecexpr_props` includes.
+/// property-test glue (`prop`, declared above).
 const NOT_SUITES: &[&str] = &["main", "support", "prop"];
 
 /// The test files are listed in `Cargo.toml` by hand: a new file must be added to the

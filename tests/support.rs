@@ -63,9 +63,9 @@
 //! ```
 //! not packets of different widths,
 //! ```compile_fail,E0271
-//! use vecexpr::{Vector, Expr, F32x4, F32x8, typenum::U3};
-//! let a = Vector::<F32x4, U3>::zero();
-//! let b = Vector::<F32x8, U3>::zero();
+//! use vecexpr::{Vector, Expr, PacketF32x4, PacketF32x8, typenum::U3};
+//! let a = Vector::<PacketF32x4, U3>::zero();
+//! let b = Vector::<PacketF32x8, U3>::zero();
 //! // MUST FAIL: 4-lane and 8-lane packets in one expression.
 //! let _ = (&a + &b).eval();
 //! ```
@@ -112,7 +112,7 @@
 //! ```
 //! The control: every operation above with matching types compiles and runs.
 //! ```
-//! use vecexpr::{vec3, Expr, Vector, F32x4, typenum::{U2, U3, U4}};
+//! use vecexpr::{vec3, Expr, Vector, PacketF32x4, typenum::{U2, U3, U4}};
 //! let a = Vector::<f32, U3>::splat(1.0);
 //! let b = Vector::<f32, U3>::splat(2.0);
 //! assert_eq!(a.cross(&b), Vector::zero());
@@ -121,7 +121,7 @@
 //! let mut out = Vector::<f32, U3>::zero();
 //! out.assign(&a * 2.0f32);
 //! assert_eq!(out, b);
-//! let p = Vector::<F32x4, U3>::zero();
+//! let p = Vector::<PacketF32x4, U3>::zero();
 //! assert_eq!((&p + &p).eval(), p);
 //! let mut c = vec3(1.0f32, 2.0, 3.0);
 //! let c0 = c;
@@ -519,33 +519,47 @@ pub mod naive {
         zip3(a, b, c, E::std_mul_add)
     }
 
-    /// The x86 `minps` rule: `if a < b { a } else { b }` (NaN in either gives `b`).
+    /// The order key of IEEE 754-2019 `minimum`/`maximum` for non-NaN values: the value
+    /// in `f64`, then `-0.0` before `+0.0`.
+    fn order_key<E: RefFloat>(x: E) -> (f64, bool) {
+        let w = x.to_f64();
+        (w, !w.is_sign_negative())
+    }
+    /// IEEE 754-2019 `minimum`: NaN if either operand is NaN, else the smaller with
+    /// `-0.0 < +0.0`.
     #[inline(never)]
-    pub fn min_rule<E: RefFloat>(a: E, b: E) -> E {
-        if a < b {
+    pub fn minimum<E: RefFloat>(a: E, b: E) -> E {
+        if a.is_nan() || b.is_nan() {
+            return E::NAN;
+        }
+        if order_key(a) <= order_key(b) {
             a
         } else {
             b
         }
     }
-    /// The x86 `maxps` rule: `if a > b { a } else { b }` (NaN in either gives `b`).
+    /// IEEE 754-2019 `maximum`: NaN if either operand is NaN, else the larger with
+    /// `+0.0 > -0.0`.
     #[inline(never)]
-    pub fn max_rule<E: RefFloat>(a: E, b: E) -> E {
-        if a > b {
+    pub fn maximum<E: RefFloat>(a: E, b: E) -> E {
+        if a.is_nan() || b.is_nan() {
+            return E::NAN;
+        }
+        if order_key(a) >= order_key(b) {
             a
         } else {
             b
         }
     }
-    /// Element-wise [`min_rule`].
+    /// Element-wise [`minimum`].
     #[inline(never)]
     pub fn min<E: RefFloat>(a: &[E], b: &[E]) -> Vec<E> {
-        zip(a, b, min_rule)
+        zip(a, b, minimum)
     }
-    /// Element-wise [`max_rule`].
+    /// Element-wise [`maximum`].
     #[inline(never)]
     pub fn max<E: RefFloat>(a: &[E], b: &[E]) -> Vec<E> {
-        zip(a, b, max_rule)
+        zip(a, b, maximum)
     }
     /// `if m[i] { a[i] } else { b[i] }`.
     #[inline(never)]
@@ -618,21 +632,21 @@ pub mod naive {
     pub fn length<E: RefFloat>(a: &[E]) -> E {
         length_squared(a).std_sqrt()
     }
-    /// Left fold with [`min_rule`] from the first element.
+    /// The least element: NaN if any is NaN, `-0.0` before `+0.0`.
     ///
     /// # Panics
     /// If `a` is empty.
     #[inline(never)]
     pub fn min_element<E: RefFloat>(a: &[E]) -> E {
-        a[1..].iter().fold(a[0], |acc, &x| min_rule(acc, x))
+        a[1..].iter().fold(a[0], |acc, &x| minimum(acc, x))
     }
-    /// Left fold with [`max_rule`] from the first element.
+    /// The greatest element: NaN if any is NaN, `+0.0` after `-0.0`.
     ///
     /// # Panics
     /// If `a` is empty.
     #[inline(never)]
     pub fn max_element<E: RefFloat>(a: &[E]) -> E {
-        a[1..].iter().fold(a[0], |acc, &x| max_rule(acc, x))
+        a[1..].iter().fold(a[0], |acc, &x| maximum(acc, x))
     }
 
     /// `a / |a|`, and the zero vector for a zero vector.

@@ -1,5 +1,5 @@
 //! Hand-written edge cases of vecexpr's arithmetic: zero vectors, NaN propagation through
-//! every operation, the `minps` rule of `min`/`max`, signed zeros, infinities, subnormal
+//! every operation, the NaN-propagating `min`/`max`, signed zeros, infinities, subnormal
 //! and huge inputs to `normalize`, and `reflect`/`refract` against hand-computed cases.
 //! Each case runs for `f32` and `f64`, and the lane-wise ones also for packets whose
 //! lanes mix the cases.
@@ -120,33 +120,30 @@ macro_rules! edges {
             }
 
             #[test]
-            fn min_max_follow_the_minps_rule() {
-                // a.min(b) is `if a < b { a } else { b }`: b whenever either is NaN.
+            fn min_max_propagate_nan() {
+                // Every minimum and maximum on vectors is NaN where either element is.
                 let a = vec3(NAN, 1.0 as E, NAN);
                 let b = vec3(2.0 as E, NAN, NAN);
-                let mn = a.min(&b).eval();
-                assert_eq!(mn[0], 2.0);
-                assert!(mn[1].is_nan() && mn[2].is_nan());
-                let mx = a.max(&b).eval();
-                assert_eq!(mx[0], 2.0);
-                assert!(mx[1].is_nan() && mx[2].is_nan());
-                let mn = b.min(&a).eval();
-                assert!(mn[0].is_nan());
-                assert_eq!(mn[1], 1.0);
-                // With a scalar operand: the scalar wins when the element is NaN.
-                assert_eq!(a.min(0.5).eval()[0], 0.5);
-                assert_eq!(a.max(0.5).eval()[0], 0.5);
-                // min_element/max_element fold from the first element with the same rule.
-                assert_eq!(vec3(NAN, 1.0 as E, 2.0).min_element(), 1.0);
-                assert_eq!(vec3(1.0 as E, NAN, 2.0).min_element(), 2.0);
-                assert!(vec3(1.0 as E, 2.0, NAN).min_element().is_nan());
-                assert_eq!(vec3(NAN, 1.0 as E, 2.0).max_element(), 2.0);
-                assert!(vec3(1.0 as E, 2.0, NAN).max_element().is_nan());
+                for m in [a.min(&b).eval(), a.max(&b).eval(), b.min(&a).eval(), b.max(&a).eval()] {
+                    assert!(m.iter().all(|x| x.is_nan()), "{m:?}");
+                }
+                // With a scalar operand too.
+                assert!(a.min(0.5).eval()[0].is_nan());
+                assert!(a.max(0.5).eval()[0].is_nan());
+                assert_eq!(a.max(0.5).eval()[1], 1.0);
+                // The reductions: NaN anywhere gives NaN.
+                for v in [vec3(NAN, 1.0 as E, 2.0), vec3(1.0 as E, NAN, 2.0), vec3(1.0 as E, 2.0, NAN)] {
+                    assert!(v.min_element().is_nan() && v.max_element().is_nan(), "{v:?}");
+                    assert!(v.sum().is_nan(), "{v:?}");
+                }
+                // The x86 rule stays available on scalars: NaN gives the second operand.
+                assert_eq!(Scalar::min(NAN, 1.0 as E), 1.0);
                 // Infinities order normally.
                 let i = vec3(-INF, INF, 0.0);
                 assert_eq!(i.min_element(), -INF);
                 assert_eq!(i.max_element(), INF);
                 assert_eq!(i.min(&vec3(0.0, 0.0, 0.0)).eval(), vec3(-INF, 0.0, 0.0));
+                assert!(vec3(INF, -INF, 0.0 as E).sum().is_nan());
             }
 
             #[test]
@@ -156,14 +153,14 @@ macro_rules! edges {
                 assert!(abs.iter().all(|&x| is_pos_zero(x)), "abs {abs:?}");
                 let neg = (-&z).eval();
                 assert!(is_pos_zero(neg[0]) && is_neg_zero(neg[1]) && is_pos_zero(neg[2]), "neg {neg:?}");
-                // min(-0, +0): -0 < +0 is false, so the second operand is returned.
+                // min and max order -0 below +0, whichever side each is on.
                 let p = vec3(0.0 as E, -0.0, 0.0);
-                let mn = z.min(&p).eval();
-                assert!(is_pos_zero(mn[0]) && is_neg_zero(mn[1]) && is_pos_zero(mn[2]), "min {mn:?}");
-                let mn = p.min(&z).eval();
-                assert!(is_neg_zero(mn[0]) && is_pos_zero(mn[1]) && is_neg_zero(mn[2]), "min {mn:?}");
-                let mx = z.max(&p).eval();
-                assert!(is_pos_zero(mx[0]) && is_neg_zero(mx[1]), "max {mx:?}");
+                for mn in [z.min(&p).eval(), p.min(&z).eval()] {
+                    assert!(mn.iter().all(|&x| is_neg_zero(x)), "min {mn:?}");
+                }
+                for mx in [z.max(&p).eval(), p.max(&z).eval()] {
+                    assert!(mx.iter().all(|&x| is_pos_zero(x)), "max {mx:?}");
+                }
                 // -0 == +0.
                 assert!(z.eq_mask(&p).all());
                 assert_eq!(z, p);
@@ -174,7 +171,8 @@ macro_rules! edges {
                 assert!(is_neg_zero((&p * -1.0).eval()[0]));
                 // A left-to-right sum of negative zeros stays -0.
                 assert!(is_neg_zero(vec3(-0.0 as E, -0.0, -0.0).sum()));
-                assert!(is_neg_zero(z.min_element()) || is_pos_zero(z.min_element()));
+                assert!(is_neg_zero(z.min_element()) && is_pos_zero(z.max_element()));
+                assert!(is_neg_zero(vec3(0.0 as E, -0.0, 0.0).min_element()));
             }
 
             #[test]
@@ -424,6 +422,17 @@ fn packet_lanes_are_independent() {
     assert!(mn.lane(1).is_nan());
     assert!(mn.lane(2) == 0.0 && mn.lane(2).is_sign_positive());
     assert_eq!(mn.lane(3), 4.0);
+    // The NaN-propagating minimum and maximum per lane, as vectors use them.
+    let mn = Scalar::minimum(a, b);
+    assert!(mn.lane(0).is_nan() && mn.lane(1).is_nan());
+    assert!(mn.lane(2) == 0.0 && mn.lane(2).is_sign_negative());
+    assert_eq!(mn.lane(3), 4.0);
+    let mx = Scalar::maximum(a, b);
+    assert!(mx.lane(0).is_nan() && mx.lane(1).is_nan());
+    assert!(mx.lane(2) == 0.0 && mx.lane(2).is_sign_positive());
+    assert_eq!(mx.lane(3), 5.0);
+    assert!(a.reduce_min().is_nan() && a.reduce_max().is_nan());
+    assert_eq!(P::from_fn(|l| [3.0, -0.0, 0.0, 1.0][l]).reduce_min().to_bits(), (-0.0f32).to_bits());
 
     // refract_masked: lane 0 at normal incidence, lane 1 grazing out of glass (TIR), lane
     // 2 at 60 degrees out of glass (TIR), lane 3 at 60 degrees into glass.

@@ -6,7 +6,7 @@ use core::mem::{align_of, size_of, size_of_val};
 use vecexpr::op::{AddOp, MulOp, NegOp, SqrtOp};
 use vecexpr::typenum::{U1000, U16, U3, U4, U8};
 use vecexpr::{
-    vec3, Binary, Expr, F32x16, F32x4, F32x8, F64x4, F64x8, Packet, PacketMask, Splat, Unary, Vec3,
+    vec3, Binary, Expr, PacketF32x16, PacketF32x4, PacketF32x8, PacketF64x4, PacketF64x8, Packet, PacketMask, Splat, Unary, Vec3,
     Vec4, Vector,
 };
 
@@ -23,22 +23,22 @@ fn plain_vectors_are_arrays() {
 
 #[test]
 fn packets_are_their_lanes() {
-    assert_eq!(size_of::<F32x4>(), 16);
-    assert_eq!(size_of::<F32x8>(), 32);
-    assert_eq!(size_of::<F32x16>(), 64);
+    assert_eq!(size_of::<PacketF32x4>(), 16);
+    assert_eq!(size_of::<PacketF32x8>(), 32);
+    assert_eq!(size_of::<PacketF32x16>(), 64);
     assert_eq!(size_of::<Packet<f32, U16>>(), 64);
-    assert_eq!(size_of::<F64x4>(), 32);
-    assert_eq!(size_of::<F64x8>(), 64);
+    assert_eq!(size_of::<PacketF64x4>(), 32);
+    assert_eq!(size_of::<PacketF64x8>(), 64);
     // Packets are not over-aligned: they are plain arrays, loaded with unaligned moves.
-    assert_eq!(align_of::<F32x16>(), 4);
-    assert_eq!(align_of::<F64x8>(), 8);
+    assert_eq!(align_of::<PacketF32x16>(), 4);
+    assert_eq!(align_of::<PacketF64x8>(), 8);
     // A mask has one lane-sized word per lane.
     assert_eq!(size_of::<PacketMask<f32, U8>>(), 32);
     assert_eq!(size_of::<PacketMask<f64, U4>>(), 32);
     // SoA vectors of packets: one packet per component.
-    assert_eq!(size_of::<Vector<F32x8, U3>>(), 96);
-    assert_eq!(size_of::<Vector<F32x16, U3>>(), 192);
-    assert_eq!(size_of::<Vector<F64x4, U4>>(), 128);
+    assert_eq!(size_of::<Vector<PacketF32x8, U3>>(), 96);
+    assert_eq!(size_of::<Vector<PacketF32x16, U3>>(), 192);
+    assert_eq!(size_of::<Vector<PacketF64x4, U4>>(), 128);
 }
 
 /// Every scalar type and dimension of the property tests: `Vector<T, N>` is `[T; N]`.
@@ -69,7 +69,7 @@ fn expression_nodes_hold_only_their_operands() {
     assert_eq!(size_of::<Binary<&Vec3<f32>, &Vec3<f32>, MulOp>>(), 2 * ptr);
     assert_eq!(size_of::<Unary<&Vec3<f32>, SqrtOp>>(), ptr);
     assert_eq!(size_of::<Splat<f32, U3>>(), 4);
-    assert_eq!(size_of::<Splat<F32x16, U3>>(), 64);
+    assert_eq!(size_of::<Splat<PacketF32x16, U3>>(), 64);
     let tree = &a * &b + &a * 2.0f32 - &b;
     // (a*b) + (a*2) - b: two references, a reference beside a padded f32, a reference.
     let scaled = size_of::<Binary<&Vec3<f32>, Splat<f32, U3>, MulOp>>();

@@ -13,8 +13,7 @@
 //! variants of an operator (owned operands, lane scalars, expression operands) are
 //! covered by a few deep trees rather than one expression each.
 
-#[path = "prop.rs"]
-mod prop;
+use crate::prop;
 
 use integration_tests::{
     assert_close, assert_expr, assert_same, assert_scalar_same, assert_vec_same, broadcast, build,
@@ -287,8 +286,8 @@ macro_rules! props {
                         - st / (&va - &vc);
                     let want: Vec<E> = (0..LEN)
                         .map(|j| {
-                            let p = naive::min_rule((a[j] + x) * (b[j] - x), sb[j]);
-                            naive::max_rule(p / (c[j] * x + b[j]), x) - sb[j] / (a[j] - c[j])
+                            let p = naive::minimum((a[j] + x) * (b[j] - x), sb[j]);
+                            naive::maximum(p / (c[j] * x + b[j]), x) - sb[j] / (a[j] - c[j])
                         })
                         .collect();
                     assert_expr(tree, &want, "operand variants");
@@ -412,9 +411,9 @@ macro_rules! props {
                     let want: Vec<E> = (0..LEN)
                         .map(|j| {
                             let mut y = ((a[j] + b[j]) * c[j] - d[j].abs()) / (e[j] * e[j] + one);
-                            y = naive::max_rule(y, -a[j]).sqrt();
+                            y = naive::maximum(y, -a[j]).sqrt();
                             y = y.mul_add(b[j], c[j]) - sb[j];
-                            naive::min_rule(y, d[j])
+                            naive::minimum(y, d[j])
                         })
                         .collect();
                     let mut out = Vector::<T, N>::zero();

@@ -17,11 +17,11 @@ use vecexpr::typenum::{U1024, U16, U3, U4, U8};
 use vecexpr::{Expr, Packet, Scalar, Vector};
 
 /// One `f32` 3-vector.
-pub type F32x3 = Vector<f32, U3>;
+pub type Vec3F32 = Vector<f32, U3>;
 /// One `f64` 3-vector.
-pub type F64x3 = Vector<f64, U3>;
+pub type Vec3F64 = Vector<f64, U3>;
 /// One `f32` 4-vector (a 3-vector padded with a zero `w`).
-pub type F32x4 = Vector<f32, U4>;
+pub type Vec4F32 = Vector<f32, U4>;
 /// Eight `f32` lanes.
 pub type P8 = Packet<f32, U8>;
 /// Sixteen `f32` lanes.
@@ -38,21 +38,21 @@ pub type Long1k = Vector<f32, U1024>;
 /// Reflects one `f32` 3-vector with vecexpr.
 #[unsafe(no_mangle)]
 #[inline(never)]
-pub fn reflect_f32x3(i: &F32x3, n: &F32x3, out: &mut F32x3) {
+pub fn reflect_f32x3(i: &Vec3F32, n: &Vec3F32, out: &mut Vec3F32) {
     *out = i.reflect(n);
 }
 
 /// Reflects one `f64` 3-vector with vecexpr.
 #[unsafe(no_mangle)]
 #[inline(never)]
-pub fn reflect_f64x3(i: &F64x3, n: &F64x3, out: &mut F64x3) {
+pub fn reflect_f64x3(i: &Vec3F64, n: &Vec3F64, out: &mut Vec3F64) {
     *out = i.reflect(n);
 }
 
 /// Reflects one padded `f32` 4-vector with vecexpr (`w = 0` stays 0).
 #[unsafe(no_mangle)]
 #[inline(never)]
-pub fn reflect_f32x4(i: &F32x4, n: &F32x4, out: &mut F32x4) {
+pub fn reflect_f32x4(i: &Vec4F32, n: &Vec4F32, out: &mut Vec4F32) {
     *out = i.reflect(n);
 }
 
@@ -74,7 +74,7 @@ pub fn reflect_packet16(i: &Soa16, n: &Soa16, out: &mut Soa16) {
 /// $R = \mathrm{fma}(-N, 2 (N \cdot I), I)$.
 #[unsafe(no_mangle)]
 #[inline(never)]
-pub fn reflect_fma_f32x3(i: &F32x3, n: &F32x3, out: &mut F32x3) {
+pub fn reflect_fma_f32x3(i: &Vec3F32, n: &Vec3F32, out: &mut Vec3F32) {
     let d = n.dot(i);
     *out = (-n).mul_add(d + d, i).eval();
 }
@@ -106,7 +106,7 @@ pub fn reflect_glam_vec3(i: &Vec3, n: &Vec3, out: &mut Vec3) {
 /// Refracts one `f32` 3-vector (zero on total internal reflection, as glam does).
 #[unsafe(no_mangle)]
 #[inline(never)]
-pub fn refract_f32x3(i: &F32x3, n: &F32x3, eta: &f32, out: &mut F32x3) {
+pub fn refract_f32x3(i: &Vec3F32, n: &Vec3F32, eta: &f32, out: &mut Vec3F32) {
     *out = i.refract_masked(n, *eta).0;
 }
 
@@ -130,7 +130,7 @@ pub fn refract_glam_vec3a(i: &Vec3A, n: &Vec3A, eta: &f32, out: &mut Vec3A) {
 /// tiny and huge vectors).
 #[unsafe(no_mangle)]
 #[inline(never)]
-pub fn normalize_f32x3(v: &F32x3, out: &mut F32x3) {
+pub fn normalize_f32x3(v: &Vec3F32, out: &mut Vec3F32) {
     *out = v.normalize();
 }
 
@@ -207,7 +207,7 @@ pub fn reflect_normalize_f32x16(i: &Lanes16, n: &Lanes16, out: &mut Lanes16) {
 /// Ray/sphere distance for one ray ($+\infty$ on a miss).
 #[unsafe(no_mangle)]
 #[inline(never)]
-pub fn sphere_hit_f32x3(o: &F32x3, d: &F32x3, center: &F32x3, radius: &f32, t: &mut f32) {
+pub fn sphere_hit_f32x3(o: &Vec3F32, d: &Vec3F32, center: &Vec3F32, radius: &f32, t: &mut f32) {
     *t = kernels::sphere_hit(o, d, center, *radius, 1e-4);
 }
 
@@ -260,7 +260,7 @@ pub fn dot_f32_1k(x: &Long1k, y: &Long1k, out: &mut f32) {
 /// Cross product of two `f32` 3-vectors.
 #[unsafe(no_mangle)]
 #[inline(never)]
-pub fn cross_f32x3(a: &F32x3, b: &F32x3, out: &mut F32x3) {
+pub fn cross_f32x3(a: &Vec3F32, b: &Vec3F32, out: &mut Vec3F32) {
     *out = a.cross(b);
 }
 
@@ -274,7 +274,7 @@ pub fn cross_glam_vec3a(a: &Vec3A, b: &Vec3A, out: &mut Vec3A) {
 /// A 3×3 matrix (columns) times a 3-vector.
 #[unsafe(no_mangle)]
 #[inline(never)]
-pub fn mat3_vec3_f32(m: &[F32x3; 3], v: &F32x3, out: &mut F32x3) {
+pub fn mat3_vec3_f32(m: &[Vec3F32; 3], v: &Vec3F32, out: &mut Vec3F32) {
     *out = kernels::mat3_mul(m, v);
 }
 
@@ -283,6 +283,45 @@ pub fn mat3_vec3_f32(m: &[F32x3; 3], v: &F32x3, out: &mut F32x3) {
 #[inline(never)]
 pub fn mat3_vec3_glam_mat3a(m: &Mat3A, v: &Vec3A, out: &mut Vec3A) {
     *out = *m * *v;
+}
+
+/// `vecexpr::Mat3<f32> * Vector<f32, U3>` (`vecexpr::Matrix`, column-major).
+#[unsafe(no_mangle)]
+#[inline(never)]
+pub fn mat3_vec3_matrix(m: &vecexpr::Mat3<f32>, v: &Vec3F32, out: &mut Vec3F32) {
+    *out = m * v;
+}
+
+/// `vecexpr::Mat4<f32> * Vector<f32, U4>`.
+#[unsafe(no_mangle)]
+#[inline(never)]
+pub fn mat4_vec4_matrix(m: &vecexpr::Mat4<f32>, v: &Vec4F32, out: &mut Vec4F32) {
+    *out = m * v;
+}
+
+/// glam's `Mat4 * Vec4`.
+#[unsafe(no_mangle)]
+#[inline(never)]
+pub fn mat4_vec4_glam_mat4(m: &glam::Mat4, v: &glam::Vec4, out: &mut glam::Vec4) {
+    *out = *m * *v;
+}
+
+/// `vecexpr::Mat4<f32> * vecexpr::Mat4<f32>`.
+#[unsafe(no_mangle)]
+#[inline(never)]
+pub fn mat4_mat4_matrix(
+    a: &vecexpr::Mat4<f32>,
+    b: &vecexpr::Mat4<f32>,
+    out: &mut vecexpr::Mat4<f32>,
+) {
+    *out = a * b;
+}
+
+/// glam's `Mat4 * Mat4`.
+#[unsafe(no_mangle)]
+#[inline(never)]
+pub fn mat4_mat4_glam_mat4(a: &glam::Mat4, b: &glam::Mat4, out: &mut glam::Mat4) {
+    *out = *a * *b;
 }
 
 // ----- vecexpr's padded single 3-vector (`vecexpr::Vec3A`) ---------------------------------

@@ -22,13 +22,13 @@ fn reflect_variants_agree_with_glam() {
     reflect_glam_vec3a(&gi, &gn, &mut g);
     assert!(close(g.into(), gi - 2.0 * gi.dot(gn) * gn));
 
-    let mut r3 = F32x3::zero();
+    let mut r3 = Vec3F32::zero();
     reflect_f32x3(&i.into(), &n.into(), &mut r3);
     assert!(close(r3.into_array(), g));
-    let mut f3 = F32x3::zero();
+    let mut f3 = Vec3F32::zero();
     reflect_fma_f32x3(&i.into(), &n.into(), &mut f3);
     assert!(close(f3.into_array(), g));
-    let mut r4 = F32x4::zero();
+    let mut r4 = Vec4F32::zero();
     reflect_f32x4(
         &vec3(i[0], i[1], i[2]).extend(0.0),
         &vec3(n[0], n[1], n[2]).extend(0.0),
@@ -36,7 +36,7 @@ fn reflect_variants_agree_with_glam() {
     );
     assert!(close(r4.truncate().into_array(), g));
     assert_eq!(r4[3], 0.0);
-    let mut r64 = F64x3::zero();
+    let mut r64 = Vec3F64::zero();
     let to64 = |v: [f32; 3]| Vector::from(v.map(f64::from));
     reflect_f64x3(&to64(i), &to64(n), &mut r64);
     assert!(close(r64.into_array().map(|x| x as f32), g));
@@ -77,7 +77,7 @@ fn refract_normalize_and_friends_agree_with_glam() {
     for eta in [0.7f32, 1.0 / 1.5, 1.5, 2.5] {
         let mut g = Vec3A::ZERO;
         refract_glam_vec3a(&gi, &gn, &eta, &mut g);
-        let mut r = F32x3::zero();
+        let mut r = Vec3F32::zero();
         refract_f32x3(&i.into(), &n.into(), &eta, &mut r);
         assert!(close(r.into_array(), g), "eta {eta}");
         let mut p = Soa16::zero();
@@ -89,7 +89,7 @@ fn refract_normalize_and_friends_agree_with_glam() {
     let v = [3.0f32, -4.0, 12.0];
     let mut g = Vec3A::ZERO;
     normalize_glam_vec3a(&Vec3A::from(v), &mut g);
-    let mut r = F32x3::zero();
+    let mut r = Vec3F32::zero();
     normalize_f32x3(&v.into(), &mut r);
     assert!(close(r.into_array(), g));
     let mut p = Soa16::zero();
@@ -124,18 +124,40 @@ fn refract_normalize_and_friends_agree_with_glam() {
     }
 
     let (a, b) = ([1.0f32, 2.0, 3.0], [-2.0f32, 0.5, 4.0]);
-    let mut c = F32x3::zero();
+    let mut c = Vec3F32::zero();
     cross_f32x3(&a.into(), &b.into(), &mut c);
     let mut gc = Vec3A::ZERO;
     cross_glam_vec3a(&Vec3A::from(a), &Vec3A::from(b), &mut gc);
     assert!(close(c.into_array(), gc));
 
     let cols = [[1.0f32, 2.0, 3.0], [4.0, 5.0, 6.0], [7.0, 8.0, 9.5]];
-    let mut m = F32x3::zero();
-    mat3_vec3_f32(&cols.map(F32x3::from), &b.into(), &mut m);
+    let mut m = Vec3F32::zero();
+    mat3_vec3_f32(&cols.map(Vec3F32::from), &b.into(), &mut m);
     let mut gm = Vec3A::ZERO;
     mat3_vec3_glam_mat3a(&Mat3A::from_cols_array_2d(&cols), &Vec3A::from(b), &mut gm);
     assert!(close(m.into_array(), gm));
+    let mut mm = Vec3F32::zero();
+    mat3_vec3_matrix(&vecexpr::Mat3::from_cols(cols.map(Vec3F32::from)), &b.into(), &mut mm);
+    assert_eq!(mm, m);
+
+    // 4×4: vecexpr's Matrix against glam's Mat4, bit for bit (both sum the columns in
+    // order, without FMA on the test's build).
+    let c4: [[f32; 4]; 4] = core::array::from_fn(|c| core::array::from_fn(|r| (r * 4 + c) as f32 - 6.5));
+    let v4 = [1.0f32, -2.0, 0.5, 3.0];
+    let m4 = vecexpr::Mat4::from_cols(c4.map(Vec4F32::from));
+    let g4 = glam::Mat4::from_cols_array_2d(&c4);
+    let mut mv = Vec4F32::zero();
+    mat4_vec4_matrix(&m4, &v4.into(), &mut mv);
+    let mut gv = glam::Vec4::ZERO;
+    mat4_vec4_glam_mat4(&g4, &glam::Vec4::from(v4), &mut gv);
+    assert_eq!(mv.into_array(), gv.to_array());
+    let mut mp = vecexpr::Mat4::zero();
+    mat4_mat4_matrix(&m4, &m4.transpose(), &mut mp);
+    let mut gp = glam::Mat4::ZERO;
+    mat4_mat4_glam_mat4(&g4, &g4.transpose(), &mut gp);
+    for c in 0..4 {
+        assert_eq!(mp.col(c).into_array(), gp.col(c).to_array(), "column {c}");
+    }
 }
 
 #[test]
@@ -188,7 +210,7 @@ fn vec3a_probes_agree_with_glam_and_vector() {
     let mut r = vecexpr::Vec3A::ZERO;
     reflect_vec3a(&vi, &vn, &mut r);
     assert!(close(r.to_array(), gi.reflect(gn)));
-    assert_eq!(r.to_vector(), F32x3::from(i).reflect(&F32x3::from(n)));
+    assert_eq!(r.to_vector(), Vec3F32::from(i).reflect(&Vec3F32::from(n)));
     normalize_vec3a(&(vi * 3.0), &mut r);
     assert!(close(r.to_array(), (gi * 3.0).normalize()));
     reflect_normalize_vec3a(&(vi * 3.0), &vn, &mut r);

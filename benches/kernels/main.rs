@@ -104,5 +104,6 @@ fn main() {
     geometry::reflect_normalize(&mut c);
     geometry::normalize_zero_lane(&mut c);
     mat3::bench(&mut c);
+    mat3::bench4(&mut c);
     c.final_summary();
 }

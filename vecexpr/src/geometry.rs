@@ -52,7 +52,9 @@ fn normalize_rescaled<T: Scalar, N: ArrayLength>(v: Vector<T, N>, l2: T) -> Vect
 /// zero.
 #[inline(always)]
 fn rescale<T: Scalar, N: ArrayLength>(v: Vector<T, N>, l2: T) -> Vector<T, N> {
-    let m = (&v).abs().max_element();
+    // The largest magnitude by the one-instruction `Scalar::max` rule, not the
+    // NaN-propagating `max_element`: a NaN component is taken care of just below.
+    let m = crate::assign::fold1(|i| v[i].abs(), N::USIZE, Scalar::max);
     let zero = T::zero();
     // A NaN component makes l2 NaN but may be skipped by max; keep it NaN.
     let m = T::select(l2.is_nan_mask(), l2, m);

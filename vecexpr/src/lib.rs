@@ -56,6 +56,19 @@
 //! let n = Vector::<P, U3>::from_fn(|c| P::splat(if c == 1 { 1.0 } else { 0.0 }));
 //! let r = i.reflect(&n); // the same source as for one f32 ray
 //! assert_eq!(r[1], P::splat(1.0));
+//! // A plain float scales every lane, on either side of the operator.
+//! assert_eq!((2.0 * &r).eval(), (&r * 2.0).eval());
+//! assert_eq!((0.5 * r).eval()[1], P::splat(0.5));
+//! ```
+//!
+//! # Matrices
+//! [`Matrix<T, R, C>`](Matrix) (column-major, [`Mat3`], [`Mat4`], ...) has the same lazy
+//! element-wise operators through [`MatExpr`], and products whose inner dimensions are
+//! checked at compile time:
+//! ```
+//! use vecexpr::{vec3, Mat3, MatExpr};
+//! let scale = (Mat3::<f32>::identity() * 2.0).eval();
+//! assert_eq!(&scale * &vec3(1.0, 2.0, 3.0), vec3(2.0, 4.0, 6.0));
 //! ```
 //!
 //! # Fused multiply-add
@@ -76,6 +89,8 @@ mod eval;
 pub mod expr;
 mod geometry;
 pub mod guide;
+mod interop;
+pub mod matrix;
 mod meta;
 pub mod op;
 mod ops;
@@ -89,6 +104,7 @@ pub use expr::{
     select, Binary, Compare, Conform, Dim3, Expr, ExprOf, Map, MaskAnd, MaskExpr, MaskNot, MaskOr,
     MulAdd, Operand, Owned, Refracted, SameDim, SameScalar, Select, Splat, Unary,
 };
+pub use matrix::{Mat2, Mat3, Mat4, MatExpr, Matrix};
 pub use meta::{powi, Pow};
 pub use packet::{Packet, PacketMask};
 pub use scalar::{LaneBits, Mask, Real, Scalar};
@@ -99,16 +115,20 @@ pub use vector::{approx_eq_scalar, vec2, vec3, vec4, LengthMismatch, Vector};
 pub type Vec3<T> = Vector<T, typenum::U3>;
 /// A 4-vector of `T`.
 pub type Vec4<T> = Vector<T, typenum::U4>;
-/// Eight `f32` lanes (one AVX2 register).
-pub type F32x8 = Packet<f32, typenum::U8>;
-/// Sixteen `f32` lanes (one AVX-512 register).
-pub type F32x16 = Packet<f32, typenum::U16>;
-/// Four `f32` lanes (one SSE register).
-pub type F32x4 = Packet<f32, typenum::U4>;
-/// Four `f64` lanes (one AVX2 register).
-pub type F64x4 = Packet<f64, typenum::U4>;
-/// Eight `f64` lanes (one AVX-512 register).
-pub type F64x8 = Packet<f64, typenum::U8>;
+/// Four `f32` lanes in an array, one SSE register's worth (`Packet<f32, U4>`).
+///
+/// The array packets are named `Packet` + lane type + `x` + lanes; the explicit SIMD
+/// registers of [`simd`] are `F32x4`, `F32x8` and `F32x16`, so both modules can be
+/// glob-imported together.
+pub type PacketF32x4 = Packet<f32, typenum::U4>;
+/// Eight `f32` lanes in an array, one AVX2 register's worth (`Packet<f32, U8>`).
+pub type PacketF32x8 = Packet<f32, typenum::U8>;
+/// Sixteen `f32` lanes in an array, one AVX-512 register's worth (`Packet<f32, U16>`).
+pub type PacketF32x16 = Packet<f32, typenum::U16>;
+/// Four `f64` lanes in an array, one AVX2 register's worth (`Packet<f64, U4>`).
+pub type PacketF64x4 = Packet<f64, typenum::U4>;
+/// Eight `f64` lanes in an array, one AVX-512 register's worth (`Packet<f64, U8>`).
+pub type PacketF64x8 = Packet<f64, typenum::U8>;
 
 /// The names most code needs, for `use vecexpr::prelude::*`.
 ///
@@ -126,7 +146,7 @@ pub mod prelude {
     pub use crate::generic_array::ArrayLength;
     pub use crate::typenum::{U2, U3, U4};
     pub use crate::{
-        select, vec2, vec3, vec4, Expr, ExprOf, Mask, MaskExpr, Operand, Packet, Real, Scalar,
-        Vec3, Vec3A, Vec4, Vector,
+        select, vec2, vec3, vec4, Expr, ExprOf, Mask, MaskExpr, Mat2, Mat3, Mat4, MatExpr, Matrix,
+        Operand, Packet, Real, Scalar, Vec3, Vec3A, Vec4, Vector,
     };
 }

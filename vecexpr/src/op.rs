@@ -80,10 +80,10 @@ binary_op!(/// $a \cdot b$.
     MulOp, 1, |a, b| a * b);
 binary_op!(/// $a / b$.
     DivOp, 8, |a, b| a / b);
-binary_op!(/// `if a < b { a } else { b }` (see [`Scalar::min`]).
-    MinOp, 1, |a, b| a.min(b));
-binary_op!(/// `if a > b { a } else { b }` (see [`Scalar::max`]).
-    MaxOp, 1, |a, b| a.max(b));
+binary_op!(/// The NaN-propagating minimum [`Scalar::minimum`].
+    MinOp, 1, |a, b| Scalar::minimum(a, b));
+binary_op!(/// The NaN-propagating maximum [`Scalar::maximum`].
+    MaxOp, 1, |a, b| Scalar::maximum(a, b));
 
 unary_op!(/// $-a$.
     NegOp, 1, |a| -a);

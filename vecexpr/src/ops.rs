@@ -4,7 +4,9 @@
 //! The right operand may be anything that is an [`Operand`] of the left side's scalar
 //! and dimension, so `&a + &b`, `&a + b`, `&a * 2.0` and `(&a + &b) * &c` all work, and
 //! `U3 + U4` fails to compile at the operator. A scalar on the left (`2.0 * &a`) is
-//! supported for `f32`, `f64` and packets.
+//! supported wherever it is on the right: an `f32` or `f64` with vectors of that float
+//! and of its packets and SIMD lanes (broadcast to every lane), and a packet or lane
+//! value with vectors of it.
 
 use crate::expr::{Binary, Conform, Expr, Map, MulAdd, Operand, Owned, Select, Splat, Unary};
 use crate::op::{AddOp, DivOp, MulOp, NegOp, SubOp};
@@ -33,8 +35,8 @@ macro_rules! binary_ops {
             }
         }
 
-        scalar_left!([$($g)*] $ty => $ety, |$s| $conv, f32);
-        scalar_left!([$($g)*] $ty => $ety, |$s| $conv, f64);
+        float_left!([$($g)*] $ty => $ety, |$s| $conv, f32);
+        float_left!([$($g)*] $ty => $ety, |$s| $conv, f64);
         packet_left!([$($g)*] $ty => $ety, |$s| $conv);
         #[cfg(target_arch = "x86_64")]
         scalar_left!([$($g)*] $ty => $ety, |$s| $conv, crate::simd::F32x4);
@@ -76,6 +78,39 @@ macro_rules! scalar_left {
             fn $f(self, rhs: $ty) -> Self::Output {
                 let $s = rhs;
                 Binary::new(Splat::new(self), $conv)
+            }
+        }
+    };
+}
+
+/// A plain `f32` or `f64` on the left of any expression it is an [`Operand`] of: an
+/// expression of the same float, or of packets or SIMD lanes of it (broadcast to every
+/// lane), so `2.0 * &v` compiles wherever `&v * 2.0` does.
+macro_rules! float_left {
+    ([$($g:tt)*] $ty:ty => $ety:ty, |$s:ident| $conv:expr, $t:ty) => {
+        float_left!(@one [$($g)*] $ty => $ety, |$s| $conv, $t, Add, add, AddOp);
+        float_left!(@one [$($g)*] $ty => $ety, |$s| $conv, $t, Sub, sub, SubOp);
+        float_left!(@one [$($g)*] $ty => $ety, |$s| $conv, $t, Mul, mul, MulOp);
+        float_left!(@one [$($g)*] $ty => $ety, |$s| $conv, $t, Div, div, DivOp);
+    };
+    (@one [$($g:tt)*] $ty:ty => $ety:ty, |$s:ident| $conv:expr, $t:ty, $tr:ident, $f:ident, $op:ident) => {
+        impl<$($g)*> $tr<$ty> for $t
+        where
+            $ety: Expr,
+            $t: Operand<<$ety as Expr>::Scalar, <$ety as Expr>::Dim>,
+        {
+            type Output = Binary<
+                <$t as Operand<<$ety as Expr>::Scalar, <$ety as Expr>::Dim>>::Expr,
+                $ety,
+                $op,
+            >;
+            #[inline(always)]
+            fn $f(self, rhs: $ty) -> Self::Output {
+                let $s = rhs;
+                Binary::new(
+                    <$t as Operand<<$ety as Expr>::Scalar, <$ety as Expr>::Dim>>::into_expr(self),
+                    $conv,
+                )
             }
         }
     };
@@ -139,7 +174,7 @@ binary_ops!(@one ['a,] &'a crate::Vec3A => crate::Vec3A, |s| *s, Add, add, AddOp
 binary_ops!(@one ['a,] &'a crate::Vec3A => crate::Vec3A, |s| *s, Sub, sub, SubOp);
 binary_ops!(@one ['a,] &'a crate::Vec3A => crate::Vec3A, |s| *s, Mul, mul, MulOp);
 binary_ops!(@one ['a,] &'a crate::Vec3A => crate::Vec3A, |s| *s, Div, div, DivOp);
-scalar_left!(['a,] &'a crate::Vec3A => crate::Vec3A, |s| *s, f32);
+float_left!(['a,] &'a crate::Vec3A => crate::Vec3A, |s| *s, f32);
 
 impl Neg for &crate::Vec3A {
     type Output = Unary<crate::Vec3A, NegOp>;

@@ -78,22 +78,33 @@ impl<T: Real, L: ArrayLength> Packet<T, L> {
         self.0.iter().fold(T::ZERO, |a, &b| a + b)
     }
 
-    /// Smallest lane (NaN lanes follow the `min` rule of [`Scalar`]).
+    /// Smallest lane: NaN if any lane is NaN, `-0.0` below `+0.0`
+    /// ([`Scalar::minimum`]).
+    ///
+    /// # Examples
+    /// ```
+    /// use vecexpr::{Packet, typenum::U4};
+    /// let p = Packet::<f32, U4>::from_fn(|i| 2.0 - i as f32);
+    /// assert_eq!(p.reduce_min(), -1.0);
+    /// let q = Packet::<f32, U4>::from_fn(|i| if i == 1 { f32::NAN } else { 1.0 });
+    /// assert!(q.reduce_min().is_nan());
+    /// ```
     #[inline]
     pub fn reduce_min(self) -> T {
         self.0
             .iter()
             .skip(1)
-            .fold(self.0[0], |a, &b| Scalar::min(a, b))
+            .fold(self.0[0], |a, &b| Scalar::minimum(a, b))
     }
 
-    /// Largest lane.
+    /// Largest lane: NaN if any lane is NaN, `+0.0` above `-0.0`
+    /// ([`Scalar::maximum`]).
     #[inline]
     pub fn reduce_max(self) -> T {
         self.0
             .iter()
             .skip(1)
-            .fold(self.0[0], |a, &b| Scalar::max(a, b))
+            .fold(self.0[0], |a, &b| Scalar::maximum(a, b))
     }
 
     #[inline(always)]
@@ -302,6 +313,14 @@ where
     #[inline(always)]
     fn max(self, rhs: Self) -> Self {
         self.zip(rhs, Scalar::max)
+    }
+    #[inline(always)]
+    fn minimum(self, rhs: Self) -> Self {
+        self.zip(rhs, Scalar::minimum)
+    }
+    #[inline(always)]
+    fn maximum(self, rhs: Self) -> Self {
+        self.zip(rhs, Scalar::maximum)
     }
     #[inline(always)]
     fn abs(self) -> Self {

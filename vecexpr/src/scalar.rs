@@ -12,10 +12,26 @@ use core::ops::{Add, AddAssign, Div, DivAssign, Mul, MulAssign, Neg, Sub, SubAss
 /// All methods act lane by lane. Comparisons return [`Scalar::Mask`], which
 /// [`Scalar::select`] consumes.
 ///
-/// `min` and `max` follow the x86 `minps`/`maxps` rule: `a.min(b)` is
-/// `if a < b { a } else { b }`, so when either operand is NaN the result is `b`.
-/// This is the rule SIMD hardware implements in one instruction and the one robust slab
-/// tests rely on; use [`Real::min_num`] for IEEE `minNum` on plain floats.
+/// # NaN and the two kinds of minimum
+/// - [`Scalar::minimum`] and [`Scalar::maximum`] propagate NaN: the result is NaN when
+///   either operand is, and `-0.0` counts as less than `+0.0` (IEEE 754-2019 `minimum`
+///   and `maximum`, the same as the unstable `f32::minimum`). Every minimum and maximum
+///   on vectors uses them: the element-wise [`Expr::min`](crate::Expr::min) and
+///   [`Expr::max`](crate::Expr::max), the reductions
+///   [`Expr::min_element`](crate::Expr::min_element) and
+///   [`Expr::max_element`](crate::Expr::max_element), and
+///   [`Packet::reduce_min`](crate::Packet::reduce_min) /
+///   [`Packet::reduce_max`](crate::Packet::reduce_max), for plain floats, packets and
+///   the SIMD lane types alike (per lane).
+/// - [`Scalar::min`] and [`Scalar::max`] are the one-instruction x86 `minps`/`maxps`
+///   rule: `a.min(b)` is `if a < b { a } else { b }`, so when either operand is NaN the
+///   result is `b`. Robust slab tests rely on it (a NaN distance is replaced by the running
+///   bound); use it in kernels that want exactly that.
+/// - [`Real::min_num`] and [`Real::max_num`] are IEEE `minNum`/`maxNum` (NaN ignored) on
+///   plain floats.
+///
+/// Sums ([`Expr::sum`](crate::Expr::sum), `dot`, `length`) follow IEEE addition: NaN if
+/// any term is NaN, and NaN for `+∞ + −∞`.
 pub trait Scalar:
     Copy
     + Debug
@@ -66,10 +82,39 @@ pub trait Scalar:
     fn splat_f64(x: f64) -> Self {
         Self::splat(<Self::Elem as Real>::from_f64(x))
     }
-    /// Lane-wise `if self < rhs { self } else { rhs }` (NaN gives `rhs`).
+    /// Lane-wise `if self < rhs { self } else { rhs }` (NaN gives `rhs`: the x86
+    /// `minps` rule, one instruction; see [`Scalar::minimum`] for the NaN-propagating
+    /// minimum that vectors use).
     fn min(self, rhs: Self) -> Self;
-    /// Lane-wise `if self > rhs { self } else { rhs }` (NaN gives `rhs`).
+    /// Lane-wise `if self > rhs { self } else { rhs }` (NaN gives `rhs`: the x86
+    /// `maxps` rule; see [`Scalar::maximum`]).
     fn max(self, rhs: Self) -> Self;
+    /// Lane-wise IEEE 754-2019 `minimum`: NaN if either operand is NaN, otherwise the
+    /// smaller, with `-0.0` less than `+0.0`. The rule of every minimum on vectors.
+    ///
+    /// # Examples
+    /// ```
+    /// use vecexpr::Scalar;
+    /// assert!(Scalar::minimum(1.0f32, f32::NAN).is_nan());
+    /// assert!(Scalar::minimum(f32::NAN, 1.0f32).is_nan());
+    /// assert_eq!(Scalar::minimum(0.0f64, -0.0).to_bits(), (-0.0f64).to_bits());
+    /// // The x86 rule of `min` instead gives the second operand:
+    /// assert_eq!(Scalar::min(f32::NAN, 1.0f32), 1.0);
+    /// ```
+    fn minimum(self, rhs: Self) -> Self;
+    /// Lane-wise IEEE 754-2019 `maximum`: NaN if either operand is NaN, otherwise the
+    /// larger, with `+0.0` greater than `-0.0`. The rule of every maximum on vectors.
+    ///
+    /// # Examples
+    /// ```
+    /// use vecexpr::{Packet, Scalar, typenum::U4};
+    /// let a = Packet::<f32, U4>::from_fn(|i| i as f32);
+    /// let b = Packet::<f32, U4>::from_fn(|i| if i == 2 { f32::NAN } else { 1.5 });
+    /// let m = Scalar::maximum(a, b);
+    /// assert_eq!((m.lane(0), m.lane(1), m.lane(3)), (1.5, 1.5, 3.0));
+    /// assert!(m.lane(2).is_nan());
+    /// ```
+    fn maximum(self, rhs: Self) -> Self;
     /// Lane-wise absolute value (clears the sign bit, so `-0.0` gives `0.0` and NaN stays NaN).
     fn abs(self) -> Self;
     /// Lane-wise correctly rounded square root (NaN for negative lanes).
@@ -308,6 +353,42 @@ macro_rules! impl_real {
                 }
             }
             #[inline(always)]
+            fn minimum(self, rhs: Self) -> Self {
+                // IEEE 754-2019 (section 9.6) `minimum`.
+                if self < rhs {
+                    self
+                } else if rhs < self {
+                    rhs
+                } else if self == rhs {
+                    // Equal, zeros of either sign included: -0.0 if either is.
+                    if self.is_sign_negative() {
+                        self
+                    } else {
+                        rhs
+                    }
+                } else {
+                    // Unordered: at least one NaN; the sum is NaN.
+                    self + rhs
+                }
+            }
+            #[inline(always)]
+            fn maximum(self, rhs: Self) -> Self {
+                // IEEE 754-2019 (section 9.6) `maximum`.
+                if self > rhs {
+                    self
+                } else if rhs > self {
+                    rhs
+                } else if self == rhs {
+                    if self.is_sign_positive() {
+                        self
+                    } else {
+                        rhs
+                    }
+                } else {
+                    self + rhs
+                }
+            }
+            #[inline(always)]
             fn abs(self) -> Self {
                 <$t>::abs(self)
             }
@@ -483,6 +564,21 @@ mod tests {
         assert_eq!(Scalar::min(f32::NAN, 1.0f32), 1.0);
         assert_eq!(Scalar::max(f64::NAN, 1.0f64), 1.0);
         assert_eq!(1.0f32.min_num(f32::NAN), 1.0);
+    }
+
+    #[test]
+    fn minimum_maximum_propagate_nan() {
+        for (a, b) in [(1.0f32, f32::NAN), (f32::NAN, 1.0), (f32::NAN, f32::NAN)] {
+            assert!(Scalar::minimum(a, b).is_nan());
+            assert!(Scalar::maximum(a, b).is_nan());
+        }
+        assert_eq!(Scalar::minimum(1.0f64, 2.0), 1.0);
+        assert_eq!(Scalar::maximum(1.0f64, 2.0), 2.0);
+        assert_eq!(Scalar::minimum(f64::NEG_INFINITY, 2.0), f64::NEG_INFINITY);
+        for (a, b) in [(0.0f32, -0.0f32), (-0.0, 0.0)] {
+            assert!(Scalar::minimum(a, b).is_sign_negative());
+            assert!(Scalar::maximum(a, b).is_sign_positive());
+        }
     }
 
     #[test]

@@ -113,7 +113,8 @@ impl RegExt for Reg {
 ///
 /// Use it for single vectors in hot code (one ray, one normal); use `Vector<f32, U3>`
 /// where 12-byte storage matters (large arrays of points) and packets
-/// (`Vector<F32x8, U3>`) for many vectors at once.
+/// (`Vector<PacketF32x8, U3>`, or the registers of [`crate::simd`]) for many vectors at
+/// once.
 ///
 /// - By value, the operators are eager and one instruction each: `a + b`, `a * 2.0`,
 ///   `-a` give a `Vec3A` (as in glam).
@@ -328,16 +329,26 @@ impl Vec3A {
         Self::from_reg(i - n * d2)
     }
 
-    /// Element-wise minimum (the [`Scalar::min`] rule: NaN gives `rhs`).
+    /// Element-wise minimum: NaN where either element is NaN, `-0.0` below `+0.0`
+    /// ([`Scalar::minimum`], the rule of every minimum on vectors).
+    ///
+    /// # Examples
+    /// ```
+    /// use vecexpr::Vec3A;
+    /// let m = Vec3A::new(1.0, 5.0, f32::NAN).min(Vec3A::splat(2.0));
+    /// assert_eq!((m.x(), m.y()), (1.0, 2.0));
+    /// assert!(m.z().is_nan());
+    /// ```
     #[inline(always)]
     pub fn min(self, rhs: Self) -> Self {
-        Self::from_reg(Scalar::min(self.reg(), rhs.reg()))
+        Self::from_reg(Scalar::minimum(self.reg(), rhs.reg()))
     }
 
-    /// Element-wise maximum (the [`Scalar::max`] rule: NaN gives `rhs`).
+    /// Element-wise maximum: NaN where either element is NaN, `+0.0` above `-0.0`
+    /// ([`Scalar::maximum`]).
     #[inline(always)]
     pub fn max(self, rhs: Self) -> Self {
-        Self::from_reg(Scalar::max(self.reg(), rhs.reg()))
+        Self::from_reg(Scalar::maximum(self.reg(), rhs.reg()))
     }
 
     /// Element-wise absolute value.

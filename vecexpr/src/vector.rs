@@ -64,6 +64,12 @@ impl<T, N: ArrayLength> Vector<T, N> {
         self.data
     }
 
+    /// The underlying generic array, borrowed.
+    #[inline(always)]
+    pub fn as_generic_array(&self) -> &GenericArray<T, N> {
+        &self.data
+    }
+
     /// A vector whose element `i` is `f(i)`.
     #[inline(always)]
     pub fn from_fn(f: impl FnMut(usize) -> T) -> Self {
@@ -92,6 +98,16 @@ impl<T, N: ArrayLength> Vector<T, N> {
     ///
     /// # Errors
     /// [`LengthMismatch`] if `slice.len() != N`.
+    ///
+    /// # Examples
+    /// ```
+    /// use vecexpr::{vec3, LengthMismatch, Vec3};
+    /// let data = [1.0f32, 2.0, 3.0, 4.0];
+    /// assert_eq!(Vec3::from_slice(&data[1..]), Ok(vec3(2.0, 3.0, 4.0)));
+    /// let err = Vec3::<f32>::from_slice(&data).unwrap_err();
+    /// assert_eq!(err, LengthMismatch { expected: 3, found: 4 });
+    /// assert_eq!(err.to_string(), "slice of length 4 cannot fill a vector of dimension 3");
+    /// ```
     #[inline]
     pub fn from_slice(slice: &[T]) -> Result<Self, LengthMismatch>
     where

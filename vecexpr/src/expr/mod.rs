@@ -60,12 +60,33 @@ pub trait Expr: Sized {
 
     // ----- lazy element-wise operations --------------------------------------------------
 
-    /// Element-wise minimum, lazily (see [`Scalar::min`] for NaN).
+    /// Element-wise minimum, lazily: NaN where either element is NaN, `-0.0` below
+    /// `+0.0` ([`Scalar::minimum`], per lane for packets).
+    ///
+    /// # Examples
+    /// ```
+    /// use vecexpr::{vec3, Expr};
+    /// let a = vec3(1.0f32, 5.0, f32::NAN);
+    /// let m = a.min(&vec3(2.0, 3.0, 0.0)).eval();
+    /// assert_eq!((m[0], m[1]), (1.0, 3.0));
+    /// assert!(m[2].is_nan());
+    /// // A scalar operand is broadcast: clamp from above.
+    /// assert_eq!(vec3(1.0f32, 5.0, 2.0).min(2.5).eval(), vec3(1.0, 2.5, 2.0));
+    /// ```
     #[inline(always)]
     fn min<R: Operand<Self::Scalar, Self::Dim>>(self, rhs: R) -> Binary<Self, R::Expr, MinOp> {
         Binary::new(self, rhs.into_expr())
     }
-    /// Element-wise maximum, lazily (see [`Scalar::max`] for NaN).
+    /// Element-wise maximum, lazily: NaN where either element is NaN, `+0.0` above
+    /// `-0.0` ([`Scalar::maximum`], per lane for packets).
+    ///
+    /// # Examples
+    /// ```
+    /// use vecexpr::{vec3, Expr};
+    /// let relu = vec3(-1.0f64, 0.5, 2.0).max(0.0).eval();
+    /// assert_eq!(relu, vec3(0.0, 0.5, 2.0));
+    /// assert!(vec3(1.0f64, f64::NAN, 0.0).max(0.0).eval()[1].is_nan());
+    /// ```
     #[inline(always)]
     fn max<R: Operand<Self::Scalar, Self::Dim>>(self, rhs: R) -> Binary<Self, R::Expr, MaxOp> {
         Binary::new(self, rhs.into_expr())
@@ -91,6 +112,20 @@ pub trait Expr: Sized {
     /// in the last bit; this node asks for it explicitly. On a target without hardware FMA
     /// (plain `x86-64`) each element becomes a library call, so build with
     /// `-C target-cpu=x86-64-v3` or newer when using it in hot code.
+    ///
+    /// # Examples
+    /// ```
+    /// use vecexpr::{vec3, Expr};
+    /// let (x, a, c) = (vec3(1.0f64, 2.0, 3.0), vec3(2.0f64, 2.0, 2.0), vec3(0.5f64, 0.5, 0.5));
+    /// assert_eq!(x.mul_add(&a, &c).eval(), vec3(2.5, 4.5, 6.5));
+    /// // Scalars broadcast: x * 2 + 1.
+    /// assert_eq!(x.mul_add(2.0, 1.0).eval(), vec3(3.0, 5.0, 7.0));
+    /// // One rounding: (1 + e)(1 - e) - 1 is -e^2 exactly, where the unfused form gives 0.
+    /// let e = f64::EPSILON;
+    /// let fused = vec3(1.0 + e, 0.0, 0.0).mul_add(1.0 - e, -1.0).eval();
+    /// assert_eq!(fused[0], -e * e);
+    /// assert_eq!((&vec3(1.0 + e, 0.0, 0.0) * (1.0 - e) - 1.0).eval()[0], 0.0);
+    /// ```
     #[inline(always)]
     fn mul_add<A, C>(self, a: A, c: C) -> MulAdd<Self, A::Expr, C::Expr>
     where
@@ -125,7 +160,17 @@ pub trait Expr: Sized {
     fn scale(self, s: Self::Scalar) -> Binary<Self, Splat<Self::Scalar, Self::Dim>, MulOp> {
         Binary::new(self, Splat::new(s))
     }
-    /// Applies `f` to every element, lazily.
+    /// Applies `f` to every element, lazily (inside the one evaluation loop, like any
+    /// node).
+    ///
+    /// # Examples
+    /// ```
+    /// use vecexpr::{vec3, Expr, Real};
+    /// let v = vec3(0.0f32, 1.5, -2.25);
+    /// assert_eq!(v.map(Real::floor).eval(), vec3(0.0, 1.0, -3.0));
+    /// // A closure in a larger tree: (2 v)^2 + 1.
+    /// assert_eq!((&v * 2.0).map(|x| x * x).sum(), 0.0 + 9.0 + 20.25);
+    /// ```
     #[inline(always)]
     fn map<F: Fn(Self::Scalar) -> Self::Scalar>(self, f: F) -> Map<Self, F> {
         Map { inner: self, f }
@@ -162,6 +207,17 @@ pub trait Expr: Sized {
     ///
     /// Below 64 elements the sum runs left to right; from 64 elements up it uses 32
     /// interleaved partial sums (so it vectorises), which changes the rounding order.
+    /// NaN follows IEEE addition: the sum is NaN if any element is NaN, or if it adds
+    /// `+∞` and `−∞` (per lane for packets).
+    ///
+    /// # Examples
+    /// ```
+    /// use vecexpr::{vec3, Expr, Vector, typenum::U100};
+    /// assert_eq!(vec3(1.0f32, 2.0, 3.0).sum(), 6.0);
+    /// assert_eq!((&vec3(1.0f32, 2.0, 3.0) * 2.0).sum(), 12.0);
+    /// assert_eq!(Vector::<f64, U100>::from_fn(|i| i as f64).sum(), 4950.0);
+    /// assert!(vec3(1.0f32, f32::NAN, 3.0).sum().is_nan());
+    /// ```
     #[inline(always)]
     fn sum(self) -> Self::Scalar {
         crate::assign::sum(|i| self.coeff(i), Self::Dim::USIZE)
@@ -194,21 +250,44 @@ pub trait Expr: Sized {
     fn length(self) -> Self::Scalar {
         self.length_squared().sqrt()
     }
-    /// Smallest element (NaN follows [`Scalar::min`]; per lane for packets).
+    /// Smallest element: NaN if any element is NaN, `-0.0` below `+0.0`
+    /// ([`Scalar::minimum`]; per lane for packets and SIMD lanes).
     ///
     /// # Panics
     /// If the dimension is zero.
+    ///
+    /// # Examples
+    /// ```
+    /// use vecexpr::{vec3, Expr};
+    /// assert_eq!(vec3(3.0f32, -1.0, 2.0).min_element(), -1.0);
+    /// assert!(vec3(1.0f32, f32::NAN, 2.0).min_element().is_nan());
+    /// ```
     #[inline(always)]
     fn min_element(self) -> Self::Scalar {
-        crate::assign::fold1(|i| self.coeff(i), Self::Dim::USIZE, Scalar::min)
+        crate::assign::fold1(|i| self.coeff(i), Self::Dim::USIZE, Scalar::minimum)
     }
-    /// Largest element (NaN follows [`Scalar::max`]; per lane for packets).
+    /// Largest element: NaN if any element is NaN, `+0.0` above `-0.0`
+    /// ([`Scalar::maximum`]; per lane for packets and SIMD lanes).
     ///
     /// # Panics
     /// If the dimension is zero.
+    ///
+    /// # Examples
+    /// ```
+    /// use vecexpr::{vec3, Expr, Packet, Scalar, Vector, typenum::{U3, U4}};
+    /// assert_eq!(vec3(3.0f64, -1.0, 2.0).max_element(), 3.0);
+    /// // Per lane: lane 2 of the second component is NaN.
+    /// type P = Packet<f32, U4>;
+    /// let v = Vector::<P, U3>::from_fn(|c| P::from_fn(|l| {
+    ///     if c == 1 && l == 2 { f32::NAN } else { (c + l) as f32 }
+    /// }));
+    /// let m = v.max_element();
+    /// assert_eq!((m.lane(0), m.lane(1), m.lane(3)), (2.0, 3.0, 5.0));
+    /// assert!(m.lane(2).is_nan());
+    /// ```
     #[inline(always)]
     fn max_element(self) -> Self::Scalar {
-        crate::assign::fold1(|i| self.coeff(i), Self::Dim::USIZE, Scalar::max)
+        crate::assign::fold1(|i| self.coeff(i), Self::Dim::USIZE, Scalar::maximum)
     }
     /// The unit vector $x / \lVert x \rVert$.
     ///
@@ -312,6 +391,23 @@ pub trait Expr: Sized {
     /// [`Expr::refract`] for any scalar, packets included: returns the refracted
     /// direction and a mask that is true where refraction happened. Lanes with total
     /// internal reflection hold the zero vector.
+    ///
+    /// # Examples
+    /// ```
+    /// use vecexpr::{Expr, Mask, Packet, Scalar, Vector, typenum::{U2, U3}};
+    /// type P = Packet<f64, U2>;
+    /// // Two rays leaving glass (eta = 1.5): lane 0 along the normal, lane 1 at a
+    /// // grazing angle beyond the critical one.
+    /// let i = Vector::<P, U3>::from([
+    ///     P::from_fn(|l| [0.0, 0.8][l]),
+    ///     P::from_fn(|l| [-1.0, -0.6][l]),
+    ///     P::splat(0.0),
+    /// ]);
+    /// let n = Vector::<P, U3>::from([P::splat(0.0), P::splat(1.0), P::splat(0.0)]);
+    /// let (t, refracted) = i.refract_masked(&n, P::splat(1.5));
+    /// assert!(refracted.test(0) && !refracted.test(1));
+    /// assert_eq!((t[1].lane(0), t[1].lane(1)), (-1.0, 0.0)); // the TIR lane is zero
+    /// ```
     #[inline(always)]
     fn refract_masked<R: Operand<Self::Scalar, Self::Dim>>(
         self,

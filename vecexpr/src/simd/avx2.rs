@@ -160,6 +160,28 @@ impl Scalar for F32x8 {
         // SAFETY: AVX (type contract).
         Self(unsafe { _mm256_max_ps(self.0, rhs.0) })
     }
+    // IEEE 754-2019 `minimum`/`maximum` from the x86 rule `min(a, b) = a < b ? a : b`
+    // (Intel SDM, MINPS/MAXPS): `min(a, b)` and `min(b, a)` agree unless the operands are
+    // unordered or equal zeros, where each returns a different operand. Or-ing the two
+    // keeps the sign bit of a -0.0 and the all-ones exponent and non-zero significand of a
+    // NaN, so the or is `minimum`. For `maximum` the and of the two keeps +0.0, and an or
+    // with the unordered mask (all ones, a NaN) makes NaN lanes NaN.
+    #[inline(always)]
+    fn minimum(self, rhs: Self) -> Self {
+        // SAFETY: AVX (type contract).
+        Self(unsafe { _mm256_or_ps(_mm256_min_ps(self.0, rhs.0), _mm256_min_ps(rhs.0, self.0)) })
+    }
+    #[inline(always)]
+    fn maximum(self, rhs: Self) -> Self {
+        // SAFETY: AVX (type contract).
+        unsafe {
+            let m = _mm256_and_ps(_mm256_max_ps(self.0, rhs.0), _mm256_max_ps(rhs.0, self.0));
+            Self(_mm256_or_ps(
+                m,
+                _mm256_cmp_ps::<_CMP_UNORD_Q>(self.0, rhs.0),
+            ))
+        }
+    }
     #[inline(always)]
     fn abs(self) -> Self {
         // SAFETY: AVX (type contract).

@@ -159,6 +159,32 @@ impl Scalar for F32x16 {
         // SAFETY: AVX-512F (type contract).
         Self(unsafe { _mm512_max_ps(self.0, rhs.0) })
     }
+    // IEEE 754-2019 `minimum`/`maximum` from the x86 rule `min(a, b) = a < b ? a : b`
+    // (Intel SDM, MINPS/MAXPS): `min(a, b)` and `min(b, a)` agree unless the operands are
+    // unordered or equal zeros, where each returns a different operand. Or-ing (in integer lanes: AVX-512F has no float or) the two
+    // keeps the sign bit of a -0.0 and the all-ones exponent and non-zero significand of a
+    // NaN, so the or is `minimum`. For `maximum` the and of the two keeps +0.0, and a masked
+    // move of NaN into the unordered lanes makes them NaN.
+    #[inline(always)]
+    fn minimum(self, rhs: Self) -> Self {
+        // SAFETY: AVX-512F (type contract).
+        unsafe {
+            let a = _mm512_castps_si512(_mm512_min_ps(self.0, rhs.0));
+            let b = _mm512_castps_si512(_mm512_min_ps(rhs.0, self.0));
+            Self(_mm512_castsi512_ps(_mm512_or_si512(a, b)))
+        }
+    }
+    #[inline(always)]
+    fn maximum(self, rhs: Self) -> Self {
+        // SAFETY: AVX-512F (type contract).
+        unsafe {
+            let a = _mm512_castps_si512(_mm512_max_ps(self.0, rhs.0));
+            let b = _mm512_castps_si512(_mm512_max_ps(rhs.0, self.0));
+            let m = _mm512_castsi512_ps(_mm512_and_si512(a, b));
+            let nan = _mm512_cmp_ps_mask::<_CMP_UNORD_Q>(self.0, rhs.0);
+            Self(_mm512_mask_mov_ps(m, nan, _mm512_set1_ps(f32::NAN)))
+        }
+    }
     #[inline(always)]
     fn abs(self) -> Self {
         // SAFETY: AVX-512F (type contract): integer and with the magnitude bits.

@@ -15,7 +15,9 @@
 //! scalar `f32` operation computes lane by lane (IEEE single precision, correctly
 //! rounded `+ - * / sqrt`, no contraction into FMA): `min`/`max` are `minps`/`maxps`,
 //! which implement the `if a < b { a } else { b }` rule of [`Scalar::min`] (NaN gives
-//! the second operand). Only [`Scalar::mul_add`] fuses, as it does for `f32`.
+//! the second operand), and [`Scalar::minimum`]/[`Scalar::maximum`] (the NaN-propagating
+//! rule of every minimum and maximum on vectors) take three to five instructions. Only
+//! [`Scalar::mul_add`] fuses, as it does for `f32`.
 //!
 //! # Dispatch
 //! [`Isa::detect`] finds the widest instruction set of the running CPU;
@@ -258,6 +260,35 @@ impl Isa {
     ///
     /// # Panics
     /// If the running CPU lacks the instruction set ([`Isa::is_available`]).
+    ///
+    /// # Examples
+    /// ```
+    /// use vecexpr::simd::{Isa, Kernel, SimdF32};
+    /// use vecexpr::Scalar;
+    ///
+    /// /// The sum of a slice, `S::LANES` floats at a time.
+    /// struct Sum<'a>(&'a [f32]);
+    /// impl Kernel for Sum<'_> {
+    ///     type Output = f32;
+    ///     #[inline(always)]
+    ///     fn run<S: SimdF32>(self) -> f32 {
+    ///         let mut acc = S::zero();
+    ///         let mut chunks = self.0.chunks_exact(S::LANES);
+    ///         for c in &mut chunks {
+    ///             acc += S::load(c);
+    ///         }
+    ///         let mut lanes = [0.0f32; 16];
+    ///         acc.store(&mut lanes);
+    ///         lanes.iter().sum::<f32>() + chunks.remainder().iter().sum::<f32>()
+    ///     }
+    /// }
+    ///
+    /// let data: Vec<f32> = (0..100).map(|i| i as f32).collect();
+    /// // Every instruction set of this CPU gives the same (exact) sum.
+    /// for isa in Isa::available() {
+    ///     assert_eq!(isa.dispatch(Sum(&data)), 4950.0);
+    /// }
+    /// ```
     #[cfg(target_arch = "x86_64")]
     #[inline]
     pub fn dispatch<K: Kernel>(self, kernel: K) -> K::Output {
@@ -286,6 +317,34 @@ impl fmt::Display for Isa {
 ///
 /// Mark `run` (and everything it calls that should be compiled for the instruction set)
 /// `#[inline(always)]`: only inlined code inherits the entry point's target features.
+///
+/// # Examples
+/// ```
+/// use vecexpr::simd::{Isa, Kernel, SimdF32};
+/// use vecexpr::typenum::U3;
+/// use vecexpr::{Expr, Vector};
+///
+/// /// Normalises 3-vectors stored as three arrays (x, y, z) in place.
+/// struct Normalize<'a>([&'a mut [f32]; 3]);
+/// impl Kernel for Normalize<'_> {
+///     type Output = ();
+///     #[inline(always)]
+///     fn run<S: SimdF32>(self) {
+///         let [x, y, z] = self.0;
+///         for i in (0..x.len()).step_by(S::LANES) {
+///             let v = Vector::<S, U3>::from_fn(|c| S::load(&[&*x, &*y, &*z][c][i..]));
+///             let u = v.normalize();
+///             u[0].store(&mut x[i..]);
+///             u[1].store(&mut y[i..]);
+///             u[2].store(&mut z[i..]);
+///         }
+///     }
+/// }
+///
+/// let (mut x, mut y, mut z) = ([3.0f32; 16], [0.0f32; 16], [4.0f32; 16]);
+/// Isa::detect().unwrap().dispatch(Normalize([&mut x, &mut y, &mut z]));
+/// assert_eq!((x[15], y[15], z[15]), (0.6, 0.0, 0.8));
+/// ```
 pub trait Kernel {
     /// What the kernel returns.
     type Output;

@@ -82,13 +82,15 @@ impl Kernel for CheckOps {
                 .iter()
                 .zip(&xa)
                 .all(|(x, y)| x.to_bits() == y.to_bits()));
-            let binary: [(&str, S, fn(f32, f32) -> f32); 6] = [
+            let binary: [(&str, S, fn(f32, f32) -> f32); 8] = [
                 ("add", a + b, |x, y| x + y),
                 ("sub", a - b, |x, y| x - y),
                 ("mul", a * b, |x, y| x * y),
                 ("div", a / b, |x, y| x / y),
                 ("min", Scalar::min(a, b), Scalar::min),
                 ("max", Scalar::max(a, b), Scalar::max),
+                ("minimum", Scalar::minimum(a, b), Scalar::minimum),
+                ("maximum", Scalar::maximum(a, b), Scalar::maximum),
             ];
             for (name, v, f) in binary {
                 for (i, got) in lanes(v).into_iter().enumerate() {
