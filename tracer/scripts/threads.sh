@@ -22,7 +22,7 @@ for r in $(seq 1 "$rounds"); do
       for t in $(seq 1 "$maxt"); do
         n=$(basename "$s" .nff)
         "$bin" render "$s" -o "$out/i.png" --width 512 --height 512 --depth 5 --threads "$t" \
-          --scheduler "$1" --tile "$2" --stats "$out/$n-$1-$2-$t-$r.json"
+          --scheduler "$1" --tile-size "$2" --stats "$out/$n-$1-$2-$t-$r.json"
       done
     done
   done

@@ -59,8 +59,9 @@ pub struct ScheduleArgs {
     #[arg(long, value_enum, default_value_t = Scheduler::Rayon)]
     pub scheduler: Scheduler,
     /// Tile edge in pixels for --scheduler tiles.
-    #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u32).range(1..=4096))]
-    pub tile: u32,
+    #[arg(long = "tile-size", value_name = "T", default_value_t = 16,
+          value_parser = clap::value_parser!(u32).range(1..=4096))]
+    pub tile_size: u32,
 }
 
 impl ScheduleArgs {
@@ -68,7 +69,7 @@ impl ScheduleArgs {
     pub fn schedule(&self) -> Schedule {
         Schedule {
             scheduler: self.scheduler,
-            tile: self.tile,
+            tile: self.tile_size,
         }
     }
 }

@@ -7,6 +7,8 @@
 //! - [`viewer`]: `tracer view`, the interactive window (winit, softbuffer);
 //! - [`args`]: what they share: [`Precision`], the scheduler, packet and OBJ camera
 //!   options, and [`args::load_scene`], the one way every subcommand reads a scene;
+//! - [`merge`]: `tracer merge`, tiles of one render put together;
+//! - [`tiles`]: the split of an image into tiles and their OpenEXR files;
 //! - [`progress`]: the terminal progress bar of `tracer render`.
 //!
 //! The library itself links none of these crates: a program that renders with `tracer`
@@ -15,8 +17,10 @@
 pub mod accuracy;
 pub mod args;
 pub mod bench;
+pub mod merge;
 pub mod progress;
 pub mod render;
+pub mod tiles;
 pub mod viewer;
 
 pub use args::Precision;

@@ -11,7 +11,7 @@ macro_rules! suites {
     };
 }
 
-suites!(accuracy, cli, cli_invariance, scene_input, viewer);
+suites!(accuracy, cli, cli_invariance, scene_input, tiles, viewer);
 
 /// Cargo does not discover test files here on its own (`autotests = false`): a new
 /// file must be added to the list above, or its tests would silently never run.
