@@ -24,7 +24,7 @@ for r in $(seq 1 "$rounds"); do
         # --tile only with the tile scheduler (the others refuse it); 16 names the
         # default in the file names of the others.
         tile=()
-        [ "$1" = tiles ] && tile=(--tile "$2")
+        [ "$1" = tiles ] && tile=(--tile-size "$2")
         "$bin" render "$s" -o "$out/i.png" --width 512 --height 512 --depth 5 --threads "$t" \
           --scheduler "$1" "${tile[@]}" --stats "$out/$n-$1-$2-$t-$r.json"
       done

@@ -124,6 +124,33 @@ impl Grid {
     }
 }
 
+/// A rectangle of an image grid: `size` points from `origin`, row-major. Grid point
+/// `(x, y)` of the window is point `origin + (x, y)` of the whole grid, so a window's
+/// points are exactly the points of the full grid it covers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Window {
+    /// The first column and row in the whole grid.
+    pub origin: (usize, usize),
+    /// Columns and rows.
+    pub size: (usize, usize),
+}
+
+impl Window {
+    /// The whole `w` x `h` grid.
+    pub fn full((w, h): (usize, usize)) -> Self {
+        Self {
+            origin: (0, 0),
+            size: (w, h),
+        }
+    }
+
+    /// The image-plane point of point `(x, y)` of the window in `grid`.
+    #[inline(always)]
+    pub fn point<T: Real>(&self, grid: Grid, x: usize, y: usize) -> (T, T) {
+        grid.point(self.origin.0 + x, self.origin.1 + y)
+    }
+}
+
 /// Where sample `i` of `a` lies along one axis of a pixel: $(i + 1/2) / a$, computed as
 /// $(i + 1/2) \cdot (1/a)$.
 #[inline(always)]

@@ -36,7 +36,7 @@
 //! types, and generic renderers reach them through the proof [`crate::Float::AS_F32`].
 //! `f64` scenes and supersampling trace single rays. Off x86-64 there are no packets.
 
-use crate::camera::{Camera, Grid};
+use crate::camera::{Camera, Grid, Window};
 use crate::geometry::kinds;
 use crate::ray::{Hit, Ray};
 use crate::settings::TraceLimits;
@@ -82,15 +82,16 @@ fn block_rays(
     cam: &Camera<f32>,
     grid: Grid,
     (bw, bh): (usize, usize),
-    (w, h): (usize, usize),
+    win: Window,
     (bx, by): (usize, usize),
 ) -> [Option<Ray<f32>>; MAX_LANES] {
     let mut rays = [None; MAX_LANES];
+    let (w, h) = win.size;
     for j in 0..bh {
         for i in 0..bw {
             let (x, y) = (bx * bw + i, by * bh + j);
             if x < w && y < h {
-                let (px, py) = grid.point::<f32>(x, y);
+                let (px, py) = win.point::<f32>(grid, x, y);
                 rays[j * bw + i] = Some(cam.ray(px, py));
             }
         }
@@ -110,10 +111,10 @@ pub(crate) fn eye_block(
     cam: &Camera<f32>,
     isa: Isa,
     grid: Grid,
-    size: (usize, usize),
+    win: Window,
     block: (usize, usize),
 ) -> ([Option<Ray<f32>>; MAX_LANES], Block) {
-    let rays = block_rays(cam, grid, block_shape(isa), size, block);
+    let rays = block_rays(cam, grid, block_shape(isa), win, block);
     let mut hits = [None; MAX_LANES];
     scene.geometry.intersect_packet_into(isa, &rays, &mut hits);
     (rays, hits)
@@ -197,7 +198,15 @@ impl EyePackets {
         let (bw, bh) = block_shape(isa);
         let (nbx, nby) = (w.div_ceil(bw), h.div_ceil(bh));
         let rays = (0..nbx * nby)
-            .map(|k| block_rays(cam, Grid::Centers, (bw, bh), (w, h), (k % nbx, k / nbx)))
+            .map(|k| {
+                block_rays(
+                    cam,
+                    Grid::Centers,
+                    (bw, bh),
+                    Window::full((w, h)),
+                    (k % nbx, k / nbx),
+                )
+            })
             .collect();
         Self {
             isa,

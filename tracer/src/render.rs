@@ -14,7 +14,7 @@
 //! bit for any thread count, any scheduler, with packets on or off, and for the
 //! specialised and the general renderer.
 
-use crate::camera::{Camera, Grid};
+use crate::camera::{Camera, Grid, Window};
 use crate::effects::{self, has, EffectChoice, EffectFn, EffectSet, EffectsMode, SUPERSAMPLING};
 use crate::float::{Family, Float};
 use crate::image::Image;
@@ -28,7 +28,7 @@ use std::time::Instant;
 use vecexpr::simd::Isa;
 use vecexpr::{Expr, Vec3};
 
-pub use crate::settings::{Schedule, Scheduler, Settings};
+pub use crate::settings::{PixelBounds, Schedule, Scheduler, Settings};
 
 /// What a render produced besides the image.
 #[derive(Clone, Copy, Debug, Default)]
@@ -229,7 +229,7 @@ fn eye_sample<T: Float, const FX: u32>(
     trace_fx::<T, FX>(scene, &cam.ray(px, py), 1, T::ONE, limits, counts)
 }
 
-/// The radiance of the eye ray through every point `(x, y)` of a `w` x `h` grid of
+/// The radiance of the eye ray through every point of window `win` of the grid of
 /// `grid`'s points, row-major, and the rays traced: the one loop over the image. Single
 /// rays are traced point by point ([`eye_sample`]); packets ([`crate::packets`]) a block
 /// at a time ([`eye_packet`]). The values are the same either way, bit for bit.
@@ -237,10 +237,11 @@ fn eye_radiance<T: Float, const FX: u32>(
     scene: &Scene<T>,
     cam: &Camera<T>,
     grid: Grid,
-    size: (usize, usize),
+    win: Window,
     limits: &TraceLimits<T>,
     run: &Run<'_, T>,
 ) -> (Vec<Vec3<T>>, RayCounts) {
+    let size = win.size;
     if let Some((p, isa)) = run.packets {
         let (bw, bh) = block_shape(isa);
         let blocks = (size.0.div_ceil(bw), size.1.div_ceil(bh));
@@ -260,7 +261,7 @@ fn eye_radiance<T: Float, const FX: u32>(
                     cam,
                     isa,
                     grid,
-                    size,
+                    win,
                     (bx, by),
                     limits,
                     counts,
@@ -280,13 +281,13 @@ fn eye_radiance<T: Float, const FX: u32>(
         run.threads,
         run.progress,
         |x, y, counts| {
-            let (px, py) = grid.point::<T>(x, y);
+            let (px, py) = win.point::<T>(grid, x, y);
             eye_sample::<T, FX>(scene, cam, px, py, limits, counts)
         },
     )
 }
 
-/// The radiance of each eye ray of one packet of block `(bx, by)` of a `w` x `h` grid,
+/// The radiance of each eye ray of one packet of block `(bx, by)` of window `win`,
 /// traced together ([`eye_block`]), with the shadow rays of their hits traced as one
 /// packet per light ([`shadow_block`]), and shaded one by one as [`eye_sample`] shades
 /// them, into `out[lane]` for each lane with a ray.
@@ -297,13 +298,13 @@ fn eye_packet<const FX: u32>(
     cam: &Camera<f32>,
     isa: Isa,
     grid: Grid,
-    size: (usize, usize),
+    win: Window,
     block: (usize, usize),
     limits: &TraceLimits<f32>,
     counts: &mut RayCounts,
     out: &mut [Vec3<f32>; MAX_LANES],
 ) {
-    let (rays, hits) = eye_block(scene, cam, isa, grid, size, block);
+    let (rays, hits) = eye_block(scene, cam, isa, grid, win, block);
     // The shadow rays of the eye hits, toward one light at a time, as packets too.
     let blocked = if has(FX, effects::SHADOWS) && shadow_packets(scene) {
         Some(shadow_block(scene, isa, limits, &rays, &hits))
@@ -359,11 +360,16 @@ fn render_grid<T: Float, const FX: u32>(
     progress: &dyn Progress,
 ) -> (Image, RayCounts) {
     let (w, h) = settings.size(scene.camera.resolution);
-    let size = (w as usize, h as usize);
     let cam = scene.camera_for(w, h);
+    let region = region(settings, (w, h));
+    let win = Window {
+        origin: (region.x0 as usize, region.y0 as usize),
+        size: (region.width() as usize, region.height() as usize),
+    };
+    let size = win.size;
     let limits = settings.limits::<T>();
     let a = settings.aa.max(1);
-    let mut image = Image::new(w, h);
+    let mut image = Image::new(region.width(), region.height());
     let mut run = Run {
         schedule: settings.schedule,
         threads: settings.threads,
@@ -374,7 +380,7 @@ fn render_grid<T: Float, const FX: u32>(
         // One ray through the centre; adding it to zero, as the sum of samples below
         // does, turns a -0 into +0.
         let (values, counts) =
-            eye_radiance::<T, FX>(scene, &cam, Grid::Centers, size, &limits, &run);
+            eye_radiance::<T, FX>(scene, &cam, Grid::Centers, win, &limits, &run);
         progress.finish();
         let zero = Vec3::<T>::zero();
         for (p, c) in image.pixels.iter_mut().zip(&values) {
@@ -393,7 +399,7 @@ fn render_grid<T: Float, const FX: u32>(
             j: k / a,
             a,
         };
-        let (values, c) = eye_radiance::<T, FX>(scene, &cam, grid, size, &limits, &run);
+        let (values, c) = eye_radiance::<T, FX>(scene, &cam, grid, win, &limits, &run);
         counts += c;
         for (s, v) in sums.iter_mut().zip(&values) {
             *s += v;
@@ -406,6 +412,19 @@ fn render_grid<T: Float, const FX: u32>(
     (image, counts)
 }
 
+/// The pixels `settings` asks for in a `w` x `h` image.
+///
+/// # Panics
+/// If the region is empty or does not lie inside the image.
+fn region(settings: &Settings, (w, h): (u32, u32)) -> PixelBounds {
+    let b = settings.region.unwrap_or(PixelBounds::full(w, h));
+    assert!(
+        b.fits(w, h) && !b.is_empty(),
+        "pixel bounds {b} are empty or outside the {w} x {h} image"
+    );
+    b
+}
+
 /// SPD mode: one ray through every pixel corner, each pixel the mean of its four.
 fn render_corners<T: Float, const FX: u32>(
     scene: &Scene<T>,
@@ -415,15 +434,21 @@ fn render_corners<T: Float, const FX: u32>(
     let (w, h) = settings.size(scene.camera.resolution);
     let cam = scene.camera_for(w, h);
     let limits = settings.limits::<T>();
+    let region = region(settings, (w, h));
+    let (w, h) = (region.width(), region.height());
+    // The corners of the region's pixels: one more column and row than pixels.
     let (cw, ch) = (w as usize + 1, h as usize + 1);
+    let win = Window {
+        origin: (region.x0 as usize, region.y0 as usize),
+        size: (cw, ch),
+    };
     let run = Run {
         schedule: settings.schedule,
         threads: settings.threads,
         progress,
         packets: packets_for::<T>(settings),
     };
-    let (corners, counts) =
-        eye_radiance::<T, FX>(scene, &cam, Grid::Corners, (cw, ch), &limits, &run);
+    let (corners, counts) = eye_radiance::<T, FX>(scene, &cam, Grid::Corners, win, &limits, &run);
     progress.finish();
     let quarter = T::from_f64(0.25);
     let mut image = Image::new(w, h);
@@ -514,8 +539,9 @@ impl<T: Float> EffectFn<RayCounts> for Pass<'_, T> {
             progress: &(),
             packets: self.packets,
         };
+        let win = Window::full(size);
         let (values, counts) =
-            eye_radiance::<T, FX>(self.scene, self.cam, self.grid, size, &self.limits, &run);
+            eye_radiance::<T, FX>(self.scene, self.cam, self.grid, win, &self.limits, &run);
         for (s, v) in self.sums.iter_mut().zip(&values) {
             *s += v;
         }

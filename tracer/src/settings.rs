@@ -40,6 +40,62 @@ pub struct Settings {
     /// Eye rays in SIMD packets ([`Packets::auto`] by default); the image is the same
     /// either way ([`crate::packets`]).
     pub packets: Packets,
+    /// Render only these pixels of the image (`None`: all). Each pixel is bit for bit the
+    /// pixel of the full render: the same rays, samples and order of operations.
+    pub region: Option<PixelBounds>,
+}
+
+/// A rectangle of pixels, `x0..x1` by `y0..y1` (half-open, as pbrt-v4's
+/// `--pixelbounds`), with `(0, 0)` the top-left pixel.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
+pub struct PixelBounds {
+    /// First column.
+    pub x0: u32,
+    /// One past the last column.
+    pub x1: u32,
+    /// First row.
+    pub y0: u32,
+    /// One past the last row.
+    pub y1: u32,
+}
+
+impl PixelBounds {
+    /// Every pixel of a `width` x `height` image.
+    pub fn full(width: u32, height: u32) -> Self {
+        Self {
+            x0: 0,
+            x1: width,
+            y0: 0,
+            y1: height,
+        }
+    }
+
+    /// Columns.
+    pub fn width(&self) -> u32 {
+        self.x1.saturating_sub(self.x0)
+    }
+
+    /// Rows.
+    pub fn height(&self) -> u32 {
+        self.y1.saturating_sub(self.y0)
+    }
+
+    /// Does it hold at least one pixel?
+    pub fn is_empty(&self) -> bool {
+        self.width() == 0 || self.height() == 0
+    }
+
+    /// Does it lie inside a `width` x `height` image?
+    pub fn fits(&self, width: u32, height: u32) -> bool {
+        self.x0 <= self.x1 && self.y0 <= self.y1 && self.x1 <= width && self.y1 <= height
+    }
+}
+
+impl std::fmt::Display for PixelBounds {
+    /// `x0,x1,y0,y1`, the form the command line takes.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{},{},{},{}", self.x0, self.x1, self.y0, self.y1)
+    }
 }
 
 /// The parallel scheduler.
@@ -88,6 +144,7 @@ impl Default for Settings {
             schedule: Schedule::default(),
             arith: Arith::EXACT,
             packets: Packets::default(),
+            region: None,
         }
     }
 }

@@ -20,6 +20,7 @@ suites!(
     geometry_primitives,
     geometry_watertight,
     packets,
+    regions,
     render,
     robustness,
     robustness_props,

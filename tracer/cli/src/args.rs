@@ -236,8 +236,8 @@ pub struct ScheduleArgs {
     #[arg(long, value_enum, default_value_t = Scheduler::Rayon)]
     pub scheduler: Scheduler,
     /// Tile edge in pixels for --scheduler tiles (default 16; refused with the others).
-    #[arg(long, value_parser = whole(1, 4096), allow_negative_numbers = true)]
-    pub tile: Option<u32>,
+    #[arg(long = "tile-size", value_name = "T", value_parser = whole(1, 4096), allow_negative_numbers = true)]
+    pub tile_size: Option<u32>,
 }
 
 /// The tile edge without `--tile`.
@@ -247,16 +247,16 @@ impl ScheduleArgs {
     /// The schedule these arguments give.
     ///
     /// # Errors
-    /// `--tile` with a scheduler other than `tiles`, which would ignore it.
+    /// `--tile-size` with a scheduler other than `tiles`, which would ignore it.
     pub fn schedule(&self) -> Result<Schedule, String> {
-        if let (Some(t), false) = (self.tile, self.scheduler == Scheduler::Tiles) {
+        if let (Some(t), false) = (self.tile_size, self.scheduler == Scheduler::Tiles) {
             return Err(format!(
-                "--tile {t} has no effect without --scheduler tiles"
+                "--tile-size {t} has no effect without --scheduler tiles"
             ));
         }
         Ok(Schedule {
             scheduler: self.scheduler,
-            tile: self.tile.unwrap_or(DEFAULT_TILE),
+            tile: self.tile_size.unwrap_or(DEFAULT_TILE),
         })
     }
 }

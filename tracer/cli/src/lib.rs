@@ -7,6 +7,8 @@
 //! - [`viewer`]: `tracer view`, the interactive window (winit, softbuffer);
 //! - [`args`]: what they share: [`Precision`], the scheduler, packet and OBJ camera
 //!   options, and [`args::load_scene`], the one way every subcommand reads a scene;
+//! - [`merge`]: `tracer merge`, tiles of one render put together;
+//! - [`tiles`]: the split of an image into tiles and their OpenEXR files;
 //! - [`output`]: the output files of `tracer render`, checked first, written together;
 //! - [`memory`]: the memory a render needs against what the machine has;
 //! - [`progress`]: the progress bar, plain progress lines and summary of `tracer render`.
@@ -18,9 +20,11 @@ pub mod accuracy;
 pub mod args;
 pub mod bench;
 pub mod memory;
+pub mod merge;
 pub mod output;
 pub mod progress;
 pub mod render;
+pub mod tiles;
 pub mod viewer;
 
 pub use args::Precision;

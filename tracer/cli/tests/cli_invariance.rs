@@ -1,5 +1,5 @@
 //! The command line's invariance promises, tested at the command line: for each flag the
-//! README says leaves the image unchanged (`--threads`, `--scheduler`, `--tile`,
+//! README says leaves the image unchanged (`--threads`, `--scheduler`, `--tile-size`,
 //! `--packets`, `--isa`, `--binary-bvh`, `--no-bvh`, `--effects`), in `f32` and `f64`,
 //! the PFM file (linear 32-bit floats) is the same byte for byte as the default
 //! render's. Bytes compare `-0.0` and `+0.0` as different and NaN as equal to itself, the
@@ -75,9 +75,9 @@ fn variants() -> Vec<Vec<&'static str>> {
         vec!["--scheduler", "rayon", "--threads", "3"],
         vec!["--scheduler", "static", "--threads", "1"],
         vec!["--scheduler", "static", "--threads", "3"],
-        vec!["--scheduler", "tiles", "--tile", "1", "--threads", "2"],
-        vec!["--scheduler", "tiles", "--tile", "7", "--threads", "3"],
-        vec!["--scheduler", "tiles", "--tile", "64"],
+        vec!["--scheduler", "tiles", "--tile-size", "1", "--threads", "2"],
+        vec!["--scheduler", "tiles", "--tile-size", "7", "--threads", "3"],
+        vec!["--scheduler", "tiles", "--tile-size", "64"],
         vec!["--packets", "off"],
         vec!["--packets", "on"],
         vec!["--binary-bvh"],
@@ -89,7 +89,7 @@ fn variants() -> Vec<Vec<&'static str>> {
     for isa in ["sse2", "avx2", "avx512"] {
         if isa_available(isa) {
             v.push(vec!["--isa", isa]);
-            v.push(vec!["--isa", isa, "--scheduler", "tiles", "--tile", "5"]);
+            v.push(vec!["--isa", isa, "--scheduler", "tiles", "--tile-size", "5"]);
         }
     }
     v

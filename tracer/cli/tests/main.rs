@@ -17,6 +17,7 @@ suites!(
     cli_invariance,
     render_checks,
     scene_input,
+    tiles,
     viewer
 );
 

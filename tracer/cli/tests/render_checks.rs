@@ -248,14 +248,14 @@ fn options_that_would_be_ignored_are_refused() {
         let err = refused(&render(&tetra, &d.join("x.png"), &args));
         assert!(err.contains("--packets on has no effect with"), "{err}");
     }
-    let err = refused(&render(&tetra, &d.join("x.png"), &["--tile", "8"]));
-    assert!(err.contains("--tile 8 has no effect without --scheduler tiles"), "{err}");
+    let err = refused(&render(&tetra, &d.join("x.png"), &["--tile-size", "8"]));
+    assert!(err.contains("--tile-size 8 has no effect without --scheduler tiles"), "{err}");
     let err = refused(&render(
         &tetra,
         &d.join("x.png"),
-        &["--scheduler", "static", "--tile", "8"],
+        &["--scheduler", "static", "--tile-size", "8"],
     ));
-    assert!(err.contains("--tile"), "{err}");
+    assert!(err.contains("--tile-size"), "{err}");
     let err = refused(&render(&tetra, &d.join("x.png"), &["--no-bvh", "--binary-bvh"]));
     assert!(err.contains("--binary-bvh") && err.contains("--no-bvh"), "{err}");
     assert!(files(&d).is_empty());
