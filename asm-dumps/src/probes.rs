@@ -347,3 +347,22 @@ pub fn normalize_vec3a(v: &vecexpr::Vec3A, out: &mut vecexpr::Vec3A) {
 pub fn reflect_normalize_vec3a(i: &vecexpr::Vec3A, n: &vecexpr::Vec3A, out: &mut vecexpr::Vec3A) {
     *out = i.reflect(*n).normalize();
 }
+
+/// Normalises one `vecexpr::Vec3A` with `normalize_fast`: the plain formula, no range
+/// test (what glam's `Vec3A::normalize` computes).
+#[unsafe(no_mangle)]
+#[inline(never)]
+pub fn normalize_fast_vec3a(v: &vecexpr::Vec3A, out: &mut vecexpr::Vec3A) {
+    *out = v.normalize_fast();
+}
+
+/// `i.reflect(n).normalize_fast()` on one `vecexpr::Vec3A`.
+#[unsafe(no_mangle)]
+#[inline(never)]
+pub fn reflect_normalize_fast_vec3a(
+    i: &vecexpr::Vec3A,
+    n: &vecexpr::Vec3A,
+    out: &mut vecexpr::Vec3A,
+) {
+    *out = i.reflect(*n).normalize_fast();
+}

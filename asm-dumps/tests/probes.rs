@@ -218,4 +218,10 @@ fn vec3a_probes_agree_with_glam_and_vector() {
     // The robust path: a tiny vector still normalises.
     normalize_vec3a(&vecexpr::Vec3A::new(1e-30, 0.0, 0.0), &mut r);
     assert_eq!(r, vecexpr::Vec3A::X);
+    // The plain formula: glam's division, bit for bit.
+    let mut f = vecexpr::Vec3A::ZERO;
+    normalize_fast_vec3a(&(vi * 3.0), &mut f);
+    assert_eq!(f.to_array(), (gi * 3.0).normalize().to_array());
+    reflect_normalize_fast_vec3a(&(vi * 3.0), &vn, &mut f);
+    assert!(close(f.to_array(), (gi * 3.0).reflect(gn).normalize()));
 }

@@ -42,7 +42,8 @@ macro_rules! geometry_group {
      glam: |$ga:ident, $gb:ident| $gl:expr,
      nalgebra: |$na:ident, $nb:ident| $ne:expr,
      ultraviolet: |$ua:ident, $ub:ident| $uv:expr
-     $(, vec3a: |$xa:ident, $xb:ident| $xe:expr)? $(,)?) => {
+     $(, vec3a: |$xa:ident, $xb:ident| $xe:expr)?
+     $(, vec3a_fast: |$fa:ident, $fb:ident| $fe:expr)? $(,)?) => {
         #[doc = concat!("The criterion group `", $group, "`.")]
         pub fn $fn_name(c: &mut Criterion) {
             use benches::eager::Eager;
@@ -103,6 +104,17 @@ macro_rules! geometry_group {
                     $xe
                 },
             );)?
+            $(single(
+                &mut g,
+                "vecexpr_vec3a_fast",
+                "3",
+                i.v3a[0],
+                n.v3a[0],
+                |$fa: &vecexpr::Vec3A, $fb: &vecexpr::Vec3A| {
+                    let ($fa, $fb) = (*$fa, *$fb);
+                    $fe
+                },
+            );)?
             single(
                 &mut g,
                 "nalgebra",
@@ -160,6 +172,17 @@ macro_rules! geometry_group {
                 |$xa: &vecexpr::Vec3A, $xb: &vecexpr::Vec3A| {
                     let ($xa, $xb) = (*$xa, *$xb);
                     $xe
+                },
+            );)?
+            $(batch(
+                &mut g,
+                "vecexpr_vec3a_fast",
+                AOS,
+                &i.v3a,
+                &n.v3a,
+                |$fa: &vecexpr::Vec3A, $fb: &vecexpr::Vec3A| {
+                    let ($fa, $fb) = (*$fa, *$fb);
+                    $fe
                 },
             );)?
             batch(
@@ -262,6 +285,7 @@ geometry_group!(normalize, "normalize", 4,
     nalgebra: |a, _b| a.normalize(),
     ultraviolet: |a, _b| a.normalized(),
     vec3a: |a, _b| a.normalize(),
+    vec3a_fast: |a, _b| a.normalize_fast(),
 );
 
 geometry_group!(cross, "cross", 5,
@@ -307,6 +331,7 @@ geometry_group!(reflect_normalize, "reflect_normalize", 8,
     nalgebra: |a, b| (a - b * (2.0 * b.dot(a))).normalize(),
     ultraviolet: |a, b| a.reflected(b).normalized(),
     vec3a: |a, b| a.reflect(b).normalize(),
+    vec3a_fast: |a, b| a.reflect(b).normalize_fast(),
 );
 
 /// The criterion group `normalize_zero_lane`: `normalize` on SoA packets each of which

@@ -5,13 +5,14 @@
 
 use crate::ray::Ray;
 use crate::scene::desc::CameraDesc;
-use vecexpr::{vec3, Expr, Real, Vec3};
+use vecexpr::{vec3, Expr, Mat3, Real, Vec3};
 
 /// A camera for an image of a given size.
 ///
 /// For image-plane coordinates $(\hat x, \hat y)$ in pixels (continuous: pixel $(i, j)$
 /// covers $[i, i+1) \times [j, j+1)$), $x = 2\hat x / w - 1$ and $y = 1 - 2\hat y / h$,
-/// and the ray direction is $\mathrm{normalize}(C_d + C_l x + C_u y)$ where
+/// and the ray direction is $\mathrm{normalize}(C_d + C_l x + C_u y)$, the product of the
+/// basis matrix $B = [C_d\ C_l\ C_u]$ (columns) with $(1, x, y)$, where
 /// $|C_u| = \tan(\alpha/2)$ and $|C_l| = \frac{w}{h}\tan(\alpha/2)$ for the vertical
 /// angle of view $\alpha$. So the vertical angle stays fixed when the width changes.
 ///
@@ -22,12 +23,11 @@ use vecexpr::{vec3, Expr, Real, Vec3};
 pub struct Camera<T: Real> {
     /// Eye position $C_p$.
     pub position: Vec3<T>,
-    /// Unit view direction $C_d$.
-    pub dir: Vec3<T>,
-    /// Image-plane up vector $C_u$, of length $\tan(\alpha/2)$.
-    pub up: Vec3<T>,
-    /// Image-plane horizontal vector $C_l$, of length $\frac{w}{h}\tan(\alpha/2)$.
-    pub left: Vec3<T>,
+    /// The basis $B = [C_d\ C_l\ C_u]$ as columns: the unit view direction $C_d$, the
+    /// image-plane horizontal vector $C_l$ of length $\frac{w}{h}\tan(\alpha/2)$ and the
+    /// image-plane up vector $C_u$ of length $\tan(\alpha/2)$. Column order and the
+    /// $(1, x, y)$ coordinates make $B (1, x, y)$ sum as $(C_d + C_l x) + C_u y$.
+    pub basis: Mat3<T>,
     /// Image width in pixels.
     pub width: u32,
     /// Image height in pixels.
@@ -61,9 +61,11 @@ impl<T: Real> Camera<T> {
         let aspect = T::from_f64(width as f64 / height.max(1) as f64);
         Self {
             position,
-            dir,
-            up: (&up).scale(half).eval(),
-            left: (&right).scale(half * aspect).eval(),
+            basis: Mat3::from_cols([
+                dir,
+                (&right).scale(half * aspect).eval(),
+                (&up).scale(half).eval(),
+            ]),
             width,
             height,
         }
@@ -75,7 +77,25 @@ impl<T: Real> Camera<T> {
         let two = T::from_f64(2.0);
         let x = two * px / T::from_f64(self.width as f64) - T::ONE;
         let y = T::ONE - two * py / T::from_f64(self.height as f64);
-        (&self.dir + (&self.left).scale(x) + (&self.up).scale(y)).normalize()
+        (&self.basis * vec3(T::ONE, x, y)).normalize()
+    }
+
+    /// The unit view direction $C_d$ (the basis' first column).
+    #[inline]
+    pub fn dir(&self) -> &Vec3<T> {
+        self.basis.col(0)
+    }
+
+    /// The image-plane horizontal vector $C_l$ (second column).
+    #[inline]
+    pub fn left(&self) -> &Vec3<T> {
+        self.basis.col(1)
+    }
+
+    /// The image-plane up vector $C_u$ (third column).
+    #[inline]
+    pub fn up(&self) -> &Vec3<T> {
+        self.basis.col(2)
     }
 
     /// The eye ray through image-plane point $(\hat x, \hat y)$ (pixels).

@@ -312,6 +312,33 @@ impl Vec3A {
         Self::from_reg(normalize_slow(v))
     }
 
+    /// The unit vector $x / \sqrt{x \cdot x}$ without the range test of
+    /// [`normalize`](Vec3A::normalize): one square root and one division of every
+    /// component by it, the formula (and the instructions) of glam's `Vec3A::normalize`.
+    /// Each component is `c / self.length()` correctly rounded, so it may differ from
+    /// `normalize` (which multiplies by the reciprocal length, as every vecexpr vector
+    /// does) in the last bit. Where the squared length is not a normal number the result
+    /// is what the formula gives: NaN for the zero vector, infinities or NaN when the
+    /// squared length underflows, zeros when it overflows. For hot paths whose vectors are
+    /// known to be in range (components between about $10^{-19}$ and $10^{19}$ in
+    /// magnitude: the difference of two distinct points of a scene, a primitive's normal).
+    ///
+    /// # Examples
+    /// ```
+    /// use vecexpr::Vec3A;
+    /// let v = Vec3A::new(3.0, 0.0, 4.0);
+    /// assert_eq!(v.normalize_fast(), Vec3A::new(0.6, 0.0, 0.8));
+    /// assert_eq!(v.normalize_fast().x(), 3.0 / v.length());
+    /// assert!(Vec3A::ZERO.normalize_fast().x().is_nan());
+    /// assert_eq!(Vec3A::ZERO.normalize(), Vec3A::ZERO);
+    /// ```
+    #[inline(always)]
+    pub fn normalize_fast(self) -> Self {
+        let v = self.reg();
+        let len = Self::dot_reg(v, v).sqrt().splat0();
+        Self::from_reg(v / len)
+    }
+
     /// The reflection $R = I - 2 N (N \cdot I)$ of the incident direction `self` about
     /// the unit normal `n` (as [`Expr::reflect`], bit for bit).
     ///
@@ -523,6 +550,44 @@ where
 mod tests {
     use super::Vec3A;
     use crate::{vec3, Expr};
+
+    #[test]
+    fn normalize_fast_is_each_component_over_the_length() {
+        // A deterministic sweep over signs and magnitudes from 1e-15 to 1e15 (squared
+        // lengths inside the normal range): each component is `c / length()` bit for
+        // bit, within one ulp of `normalize`.
+        let mut state = 0x2545_f491_u32;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 17;
+            state ^= state << 5;
+            state
+        };
+        for _ in 0..20_000 {
+            let e = (next() % 31) as i32 - 15;
+            let c = |r: u32| ((r % 2001) as f32 / 1000.0 - 1.0) * 10f32.powi(e);
+            let v = Vec3A::new(c(next()), c(next()), c(next()));
+            if v == Vec3A::ZERO {
+                continue;
+            }
+            let fast = v.normalize_fast().to_array();
+            let plain = v.to_array().map(|c| c / v.length());
+            assert_eq!(fast.map(f32::to_bits), plain.map(f32::to_bits), "{v:?}");
+            for (f, r) in fast.iter().zip(v.normalize().to_array()) {
+                assert!(
+                    (f.to_bits() as i64 - r.to_bits() as i64).abs() <= 1,
+                    "{v:?}"
+                );
+            }
+        }
+        // Outside the range it is the formula: zero gives NaN, overflow zeros.
+        assert!(Vec3A::ZERO
+            .normalize_fast()
+            .to_array()
+            .iter()
+            .all(|x| x.is_nan()));
+        assert_eq!(Vec3A::new(1e30, 0.0, 0.0).normalize_fast(), Vec3A::ZERO);
+    }
 
     #[test]
     fn kernels_match_vector_bits() {

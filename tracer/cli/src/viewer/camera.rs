@@ -45,13 +45,13 @@ impl FlyCamera {
         // Camera::new's choice of up when `up` is degenerate is kept by taking its C_u.
         let cam = Camera::<f64>::new(home, 1, 1);
         let mut up = v(home.up);
-        if cam.dir.cross(&up).length_squared() <= 1e-24 {
-            up = cam.up.normalize().eval();
+        if cam.dir().cross(&up).length_squared() <= 1e-24 {
+            up = cam.up().normalize().eval();
         }
         Self {
             home: home.clone(),
             from: v(home.from),
-            dir: cam.dir,
+            dir: *cam.dir(),
             up: up.normalize().eval(),
             angle_deg: home.angle_deg,
         }
@@ -88,9 +88,9 @@ impl FlyCamera {
     fn axes(&self) -> (Vec3<f64>, Vec3<f64>, Vec3<f64>) {
         let cam = Camera::<f64>::new(&self.desc(), 1, 1);
         (
-            cam.dir,
-            cam.left.normalize().eval(),
-            cam.up.normalize().eval(),
+            *cam.dir(),
+            cam.left().normalize().eval(),
+            cam.up().normalize().eval(),
         )
     }
 
