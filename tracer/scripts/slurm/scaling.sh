@@ -97,10 +97,17 @@ med = statistics.median
 def task(j):
     t, r = j["times_ms"], j["rays"]
     return dict(parse=t["parse"], build=t["build"], split=t["split"], trace=t["trace"],
+                size=(j["image"]["width"], j["image"]["height"]),
                 setup_cpu=t["setup_cpu"], trace_cpu=t["trace_cpu"], rays=sum(r.values()))
 
 def load(d):
     return [task(json.loads(f.read_text())) for f in d.glob("tile-*.json")]
+
+def probe(f, n):
+    """The split's probe in CPU ms, modelled: its samples' share of the image's pixels
+    times the one-process trace (tiles.rs: min(w, 64) x min(h, max(4N, 64)) eye rays)."""
+    w, h = f["size"]
+    return f["trace_cpu"] * min(w, 64) * min(h, max(4 * n, 64)) / (w * h)
 
 def imb(ts, key):
     if not ts:
@@ -127,16 +134,16 @@ for size in sizes:
     print("Overhead of a task against the trace (CPU ms of the process: `setup` is reading the scene, "
           "building the tree and, for `--tile`, the split's probe). Full: the one-process render. "
           "Tasks: medians over every tile task of the scene; split: median wall ms of the probe "
-          "over the N tasks of a split.\n")
-    print("| scene | full setup CPU ms | full trace CPU ms | setup / trace | rays | task parse ms | task build ms | task setup CPU ms | split ms N=4 | N=16 | N=64 |")
-    print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+          "over the N tasks of a split; merge: median wall ms of `tracer merge` over the splits.\n")
+    print("| scene | full setup CPU ms | full trace CPU ms | setup / trace | rays | task parse wall ms | task build wall ms | task setup CPU ms | split wall ms N=4 | N=16 | N=64 | merge wall ms |")
+    print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
     for s, r in runs.items():
         f = r["full"]
         every = [t for ts in r["tiles"].values() for t in ts]
         split = {n: med(t["split"] for t in r["tiles"][("cost", n)]) for n in (4, 16, 64) if n in counts}
         print(f"| {s} | {f['setup_cpu']:.0f} | {f['trace_cpu']:.0f} | {f['setup_cpu'] / f['trace_cpu']:.2f} | {f['rays']:,} | "
               f"{med(t['parse'] for t in every):.0f} | {med(t['build'] for t in every):.0f} | "
-              f"{med(t['setup_cpu'] for t in every):.0f} | " + " | ".join(f"{split.get(n, 0):.1f}" for n in (4, 16, 64)) + " |")
+              f"{med(t['setup_cpu'] for t in every):.0f} | " + " | ".join(f"{split.get(n, 0):.1f}" for n in (4, 16, 64)) + f" | {med(r['merge'].values()):.0f} |")
     print()
     print("Load imbalance, max / mean over the tiles of a split: by trace CPU time (one run each), by "
           "rays (the same on every machine) and by trace wall time; `cost`: `--tile I/N`, `equal`: "
@@ -152,31 +159,38 @@ for size in sizes:
             print(f"| {s} | {n} | " + " | ".join(map(fmt, row)) + " |")
     print()
     print("Speed-up on N nodes, one tile task a node, modelled from the tasks measured here one after "
-          "another (CPU ms): T(1) = the one-process render's setup + trace; T(N) = the largest task "
-          "setup + trace of the split, plus the merge (wall ms, measured); speed-up = T(1) / T(N). "
-          "`overhead`: the slowest task's setup share. `shared tree`: the cost split's speed-up if "
-          "no task read the scene or built the tree (each still runs the split's probe), the bound for "
-          "a tree built once and loaded by every task at no cost; `limit`: T(1) / the one-process "
-          "render's setup, the speed-up no N can pass while every task reads the scene and builds the tree.\n")
-    print("| scene | N | T(N) ms, cost | speed-up cost | speed-up equal | overhead (cost) | shared tree (cost) | limit |")
-    print("|---|---:|---:|---:|---:|---:|---:|---:|")
+          "another (CPU ms): T(1) = the one-process render's setup + trace; T(N) = a task's reading and "
+          "building (the median over all tile tasks of the scene) + the probe (modelled, as below) + "
+          "the split's largest tile trace (the merge, in the first table, left out); "
+          "speed-up = T(1) / T(N). `by rays`: the same with the largest tile's trace taken as its "
+          "share of the split's rays times the one-process trace (free of the per-tile timing noise). `overhead`: setup / (setup + largest trace). `shared tree`: the cost split's speed-up if "
+          "no task read the scene or built the tree (each still runs the split's probe, counted as its "
+          "samples' share of the pixels times the one-process trace), the bound for "
+          "a tree built once and loaded by every task at no cost; `limit`: T(1) / a task's reading and "
+          "building, the speed-up no N can pass while every task reads the scene and builds the tree.\n")
+    print("| scene | N | T(N) ms, cost | speed-up cost | by rays | speed-up equal | by rays | overhead (cost) | shared tree (cost) | limit |")
+    print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
     for s, r in runs.items():
         f = r["full"]
         t1 = f["setup_cpu"] + f["trace_cpu"]
-        limit = t1 / f["setup_cpu"]
-        print(f"| {s} | 1 | {t1:.0f} | 1.00 | 1.00 | {f['setup_cpu'] / t1:.2f} | {t1 / f['trace_cpu']:.2f} | {limit:.1f} |")
+        # Reading and building, the same in every task: one median over all the tasks.
+        base = med(t["setup_cpu"] - (probe(f, n) if k == "cost" else 0)
+                   for (k, n), ts in r["tiles"].items() for t in ts)
+        limit = t1 / base
+        print(f"| {s} | 1 | {t1:.0f} | 1.00 | 1.00 | 1.00 | 1.00 | {f['setup_cpu'] / t1:.2f} | {t1 / f['trace_cpu']:.2f} | {limit:.1f} |")
         for n in counts:
             res = {}
-            res["equal"] = (0, float("nan"))
+            res["equal"] = (0, float("nan"), 0, 0, float("nan"))
             for k in ("cost", "equal"):
                 if (k, n) not in r["tiles"]:
                     continue
-                ts, m = r["tiles"][(k, n)], r["merge"][(k, n)]
-                slow = max(ts, key=lambda t: t["setup_cpu"] + t["trace_cpu"])
-                tn = slow["setup_cpu"] + slow["trace_cpu"] + m
-                shared = max(t["split"] + t["trace_cpu"] for t in ts) + m
-                res[k] = (tn, t1 / tn, slow["setup_cpu"] / (tn - m), t1 / shared)
+                ts, m = r["tiles"][(k, n)], 0.0
+                setup, trace = base + probe(f, n), max(t["trace_cpu"] for t in ts)
+                tn = setup + trace + m
+                shared = probe(f, n) + trace + m
+                by_rays = f["trace_cpu"] * max(t["rays"] for t in ts) / sum(t["rays"] for t in ts)
+                res[k] = (tn, t1 / tn, setup / (setup + trace), t1 / shared, t1 / (setup + by_rays + m))
             c, e = res["cost"], res["equal"]
-            print(f"| {s} | {n} | {c[0]:.0f} | {c[1]:.2f} | {fmt(e[1])} | {c[2]:.2f} | {c[3]:.2f} | {limit:.1f} |")
+            print(f"| {s} | {n} | {c[0]:.0f} | {c[1]:.2f} | {c[4]:.2f} | {fmt(e[1])} | {fmt(e[4])} | {c[2]:.2f} | {c[3]:.2f} | {limit:.1f} |")
     print()
 EOF
