@@ -638,6 +638,30 @@ mod tests {
     }
 
     #[test]
+    fn row_costs_see_the_whole_width_of_the_image() {
+        // A mirror sphere near the right edge of the upper half of a 4:1 image, sky
+        // elsewhere: only samples spread over the image's own width (not a probe image
+        // of another aspect ratio, which sees another width of the scene) find it.
+        let nff = "v\nfrom 0 0 -10\nat 0 0 0\nup 0 1 0\nangle 45\nhither 1\n\
+                   resolution 64 64\nb 0 0 0\nl 0 0 -10\nf 1 1 1 0.5 0.5 10 0 1\n\
+                   s 13 2 0 1.5\n";
+        let desc = tracer::scene::parse_nff(nff, "edge.nff").unwrap();
+        let scene = Scene::<f32>::from_desc(&desc, &tracer::geometry::AccelOptions::default());
+        let settings = Settings {
+            width: Some(256),
+            height: Some(64),
+            ..Settings::default()
+        };
+        let rows = row_costs(&scene, &settings, (256, 64), 2);
+        let sky = rows[63];
+        assert_eq!(sky, 64.0, "a sky row costs one eye ray per sample");
+        assert!(rows[..32].iter().any(|&c| c > sky), "{rows:?}");
+        // The cut follows: the band holding the sphere is the shorter.
+        let bands = cut(&rows, 256, 2);
+        assert!(bands[0].height() < bands[1].height(), "{bands:?}");
+    }
+
+    #[test]
     fn numbered_names() {
         let p = Path::new("out/frame-%04d.png");
         assert_eq!(numbered(p, 7), Path::new("out/frame-0007.png"));
