@@ -458,12 +458,18 @@ fn one<T: tracer::Float>(
     let (args, desc, accel) = (job.args, job.desc, job.accel);
     let (parse_ms, parse_cycles) = job.parse;
     let (w, h) = job.settings.size(scene.camera.resolution);
+    // The split's probe render is work every tile task does before tracing its tile.
+    let split_start = Mark::now();
     let region = match (args.pixel_bounds, args.crop, job.tile) {
         (Some(b), _, _) => Some(b),
         (_, Some(c), _) => Some(crop_bounds(c, (w, h))),
         (_, _, Some((i, n))) => Some(tiles::split(scene, job.settings, n)?[i as usize]),
         _ => None,
     };
+    let split_ms = split_start.ms();
+    // CPU time before the trace: reading, the build and the split, free of the waits
+    // that a loaded machine adds to their wall times.
+    let setup_cpu_ms = tracer::stats::process_cpu_ms().unwrap_or(0.0);
     let settings = &Settings {
         region,
         ..job.settings.clone()
@@ -492,7 +498,7 @@ fn one<T: tracer::Float>(
         let c = &scene.camera;
         let report = json!({
             "scene": args.scene.display().to_string(),
-            "times_ms": { "parse": parse_ms, "build": build_ms, "trace": stats.trace_ms, "trace_cpu": stats.trace_cpu_ms, "total": total_ms },
+            "times_ms": { "parse": parse_ms, "build": build_ms, "split": split_ms, "trace": stats.trace_ms, "setup_cpu": setup_cpu_ms, "trace_cpu": stats.trace_cpu_ms, "total": total_ms },
             "times_cycles": Cycles { parse: parse_cycles, build: build_cycles, trace: stats.trace_cycles, total: total_cycles },
             "cycle_clock": CycleClock::get(),
             "rays": stats.rays,

@@ -12,7 +12,9 @@
 
 use std::collections::HashMap;
 use std::path::Path;
-use tracer::render::{render_with_stats, PixelBounds, Settings};
+use tracer::effects;
+use tracer::render::{PixelBounds, Settings};
+use tracer::shade::trace_fx;
 use tracer::{Float, Image, RayCounts, Scene};
 
 /// The custom header attributes of a tile file.
@@ -144,11 +146,12 @@ impl TileSpec {
 ///
 /// Rows of equal height are not equal work (on balls-s* the sky rows cost one ray a
 /// pixel, the rows through the spheres several), so the work of each row is estimated
-/// first from a small render of the same view: `min(h, 4 count)` rows of
-/// `min(w, 64)` pixels, one ray per pixel, each row rendered as its own region and its
-/// cost taken as the rays it traced. Ray counts, unlike times, are the same on every
+/// first from a sample of the image: `min(h, max(4 count, 64))` rows spread over its
+/// height, each sampled at `min(w, 64)` pixel centres spread over its width, one eye ray
+/// per sample traced with the image's camera and settings, and a row's cost taken as the
+/// rays its samples traced (eye, reflection, refraction and shadow). Ray counts, unlike times, are the same on every
 /// machine and thread count, so every task of a split computes the same cuts. The
-/// estimate costs about `4 count * 64` pixels of work per task.
+/// estimate costs about `max(4 count, 64) * 64` pixels of work per task.
 ///
 /// # Errors
 /// When the image has fewer rows than `count`.
@@ -167,6 +170,11 @@ pub fn split<T: Float>(
     Ok(cut(&rows, w, count))
 }
 
+/// The probe's pixels per row (fewer when the image is narrower).
+const PROBE_WIDTH: u32 = 64;
+/// The probe's fewest rows (fewer when the image has fewer); `4 count` when more.
+const PROBE_ROWS: u32 = 64;
+
 /// The estimated work of each of the `h` rows of a `w` x `h` image (see [`split`]).
 fn row_costs<T: Float>(
     scene: &Scene<T>,
@@ -174,32 +182,29 @@ fn row_costs<T: Float>(
     (w, h): (u32, u32),
     count: u32,
 ) -> Vec<f64> {
-    let (lw, lh) = (w.min(64), h.min(4 * count));
-    let probe = Settings {
-        width: Some(lw),
-        height: Some(lh),
-        aa: 1,
-        spd: false,
-        region: None,
-        threads: Some(1),
-        ..settings.clone()
+    let (lw, lh) = (w.min(PROBE_WIDTH), h.min((4 * count).max(PROBE_ROWS)));
+    // The full image's camera, so that the samples see the view the tiles see: a
+    // smaller render of its own aspect ratio would see another part of the scene
+    // (the vertical field of view is fixed, the horizontal one follows the aspect).
+    let cam = scene.camera_for(w, h);
+    let limits = settings.limits::<T>();
+    // Sample k of n spread over m pixels: the centre of pixel floor((k + 1/2) m / n).
+    let at = |k: u32, n: u32, m: u32| {
+        (u64::from(2 * k + 1) * u64::from(m) / u64::from(2 * n)) as f64 + 0.5
     };
     let low: Vec<f64> = (0..lh)
-        .map(|y| {
-            let row = Settings {
-                region: Some(PixelBounds {
-                    x0: 0,
-                    x1: lw,
-                    y0: y,
-                    y1: y + 1,
-                }),
-                ..probe.clone()
-            };
-            let (_, stats) = render_with_stats(scene, &row);
-            stats.rays.total() as f64
+        .map(|j| {
+            let py = T::from_f64(at(j, lh, h));
+            let mut counts = RayCounts::default();
+            for i in 0..lw {
+                counts.eye += 1;
+                let ray = cam.ray(T::from_f64(at(i, lw, w)), py);
+                trace_fx::<T, { effects::ALL }>(scene, &ray, 1, T::ONE, &limits, &mut counts);
+            }
+            counts.total() as f64
         })
         .collect();
-    // Full-image row y lies in low-resolution row y * lh / h.
+    // Image row y takes the cost of sample row y * lh / h, the band of rows around it.
     (0..h as u64)
         .map(|y| low[(y * lh as u64 / h as u64) as usize].max(1.0))
         .collect()
@@ -630,6 +635,30 @@ mod tests {
         // Two expensive rows at the bottom get a tile each of the three.
         let b = cut(&[1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 20.0, 20.0], 1, 3);
         assert_eq!((b[0].y0, b[0].y1, b[1].y1, b[2].y1), (0, 7, 8, 9));
+    }
+
+    #[test]
+    fn row_costs_see_the_whole_width_of_the_image() {
+        // A mirror sphere near the right edge of the upper half of a 4:1 image, sky
+        // elsewhere: only samples spread over the image's own width (not a probe image
+        // of another aspect ratio, which sees another width of the scene) find it.
+        let nff = "v\nfrom 0 0 -10\nat 0 0 0\nup 0 1 0\nangle 45\nhither 1\n\
+                   resolution 64 64\nb 0 0 0\nl 0 0 -10\nf 1 1 1 0.5 0.5 10 0 1\n\
+                   s 13 2 0 1.5\n";
+        let desc = tracer::scene::parse_nff(nff, "edge.nff").unwrap();
+        let scene = Scene::<f32>::from_desc(&desc, &tracer::geometry::AccelOptions::default());
+        let settings = Settings {
+            width: Some(256),
+            height: Some(64),
+            ..Settings::default()
+        };
+        let rows = row_costs(&scene, &settings, (256, 64), 2);
+        let sky = rows[63];
+        assert_eq!(sky, 64.0, "a sky row costs one eye ray per sample");
+        assert!(rows[..32].iter().any(|&c| c > sky), "{rows:?}");
+        // The cut follows: the band holding the sphere is the shorter.
+        let bands = cut(&rows, 256, 2);
+        assert!(bands[0].height() < bands[1].height(), "{bands:?}");
     }
 
     #[test]

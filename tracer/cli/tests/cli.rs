@@ -53,7 +53,7 @@ fn renders_png_pfm_and_stats() {
     assert_eq!((img.width, img.height), (40, 30));
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
-    for key in ["parse", "build", "trace", "total"] {
+    for key in ["parse", "build", "split", "trace", "total"] {
         assert!(json["times_ms"][key].as_f64().is_some(), "times_ms.{key}");
     }
     for key in ["eye", "reflection", "refraction", "shadow"] {
