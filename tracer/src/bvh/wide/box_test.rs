@@ -72,7 +72,7 @@ const _: () = assert!(core::mem::offset_of!(Node4, bounds) == 0);
 /// two instructions a row, twelve a node.)
 #[inline(always)]
 fn plane(node: &Node4, offset: usize) -> &[f32; WIDTH] {
-    debug_assert!(offset % ROW == 0 && offset <= row_offset(1, 2));
+    debug_assert!(offset.is_multiple_of(ROW) && offset <= row_offset(1, 2));
     // SAFETY: `offset` is `row_offset(side, axis)` with `side < 2` and `axis < 3` (the
     // only offsets `Box4Ray::new` makes, and its fields are private), so it is the byte
     // offset of `node.bounds[side][axis]`, an aligned `[f32; WIDTH]` inside `*node`:
@@ -107,15 +107,15 @@ impl<T: Real> Box4Ray<T> {
     #[inline(always)]
     pub fn hit_bits(&self, node: &Node4, t_max: T) -> (u32, [T; WIDTH]) {
         let lanes = |v: &[f32; WIDTH]| P4::<T>::from_fn(|i| T::from_f64(f64::from(v[i])));
-        let mut t_near = self.t_min.clone();
+        let mut t_near = self.t_min;
         let mut t_far = P4::<T>::splat(t_max * self.slack);
         for a in 0..3 {
             let near = lanes(plane(node, self.near[a]));
             let far = lanes(plane(node, self.far[a]));
-            let o = self.origin[a].clone();
+            let o = self.origin[a];
             // The operations of `slab`, written out (see the module docs).
-            let tn = (near - o.clone()) * self.inv_dir[a].clone();
-            let tf = (far - o) * self.inv_far[a].clone();
+            let tn = (near - o) * self.inv_dir[a];
+            let tf = (far - o) * self.inv_far[a];
             // minps/maxps rule per lane: a NaN `tn`/`tf` leaves the running value.
             t_near = Scalar::max(tn, t_near);
             t_far = Scalar::min(tf, t_far);
