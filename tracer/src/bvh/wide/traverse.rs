@@ -1,6 +1,7 @@
 //! The single-ray walk of the four-wide tree, ordered for closest hits and early-exit
 //! for any hits.
 
+use super::box_test::Box4Ray;
 use super::{Leaf, Node4, STACK_SIZE, WIDTH};
 use crate::bvh::traverse::TraversalRay;
 use crate::bvh::Bvh;
@@ -56,9 +57,10 @@ impl Bvh {
         let mut sp = 0usize;
         let mut found = false;
         let mut at = start as usize;
+        let boxes = Box4Ray::new(ray);
         'walk: loop {
             let node = &nodes[at];
-            let (mut bits, tn) = ray.hit_box4_bits(node, t_max);
+            let (mut bits, tn) = boxes.hit_bits(node, t_max);
             let mut entry = None;
             if bits != 0 {
                 let first = bits.trailing_zeros() as usize;
