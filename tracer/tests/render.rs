@@ -410,3 +410,48 @@ fn integer_powers() {
     assert_eq!(ar.label(), "int-pow");
     assert_eq!(Arith::default().label(), "exact");
 }
+
+/// The image-plane points eye rays pass through, against the formulas `Grid` documents:
+/// pixel centres $(x + 1/2, y + 1/2)$, corners $(x, y)$, and supersample $(i, j)$ of
+/// $a \times a$ at $(x + (i + 1/2)/a,\ y + (j + 1/2)/a)$; a window's point is the full
+/// grid's point at its origin plus the offset.
+#[test]
+fn grid_points_follow_the_documented_formulas() {
+    use tracer::camera::{Grid, Window};
+    let close = |got: (f64, f64), want: (f64, f64), what: &str| {
+        assert!(
+            (got.0 - want.0).abs() <= 1e-12 && (got.1 - want.1).abs() <= 1e-12,
+            "{what}: {got:?}, expected {want:?}"
+        );
+    };
+    for (x, y) in [(0, 0), (5, 7), (130, 2)] {
+        let (xf, yf) = (x as f64, y as f64);
+        close(Grid::Centers.point(x, y), (xf + 0.5, yf + 0.5), "centre");
+        close(Grid::Corners.point(x, y), (xf, yf), "corner");
+        for a in 1..=4u32 {
+            for i in 0..a {
+                for j in 0..a {
+                    let want = (
+                        xf + (i as f64 + 0.5) / a as f64,
+                        yf + (j as f64 + 0.5) / a as f64,
+                    );
+                    close(Grid::Sample { i, j, a }.point(x, y), want, "sample");
+                    // The f32 points are the same points, rounded.
+                    let p32: (f32, f32) = Grid::Sample { i, j, a }.point(x, y);
+                    let p32 = (f64::from(p32.0), f64::from(p32.1));
+                    assert!(
+                        (p32.0 - want.0).abs() <= 1e-4 && (p32.1 - want.1).abs() <= 1e-4,
+                        "f32 sample {p32:?}, expected {want:?}"
+                    );
+                }
+            }
+        }
+        let window = Window {
+            origin: (3, 11),
+            size: (4, 4),
+        };
+        let grid = Grid::Sample { i: 1, j: 0, a: 3 };
+        let got: (f64, f64) = window.point(grid, x, y);
+        close(got, grid.point(x + 3, y + 11), "window");
+    }
+}
