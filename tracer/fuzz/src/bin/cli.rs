@@ -4,5 +4,7 @@ fn main() {
     let tracer = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
     let dir = std::env::temp_dir().join(format!("tracer-cli-fuzz-{}", std::process::id()));
     let sandbox = tracer_cli::fuzz::Sandbox::new(&dir, &tracer).expect("cannot make the sandbox");
-    afl::fuzz!(|data: &[u8]| sandbox.run(data));
+    afl::fuzz!(|data: &[u8]| {
+        sandbox.run(data);
+    });
 }
