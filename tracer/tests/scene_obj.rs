@@ -360,3 +360,32 @@ fn no_obj_input_makes_the_reader_panic() {
     std::fs::write(&path, huge).unwrap();
     assert!(load_obj(Path::new(&path), &ObjOptions::default()).is_err());
 }
+
+/// A library named many times (on one `mtllib` line or on many) is read once, so an OBJ
+/// file cannot multiply the work and memory of its library by its own size
+/// (`tracer/fuzz/regressions/obj/mtllib-repeated.bin`); its materials stay in effect.
+#[test]
+fn a_library_named_again_is_read_once() {
+    use tracer::scene::{parse_obj, Precision};
+    let reads = std::cell::RefCell::new(Vec::new());
+    let library = |name: &str| {
+        reads.borrow_mut().push(name.to_string());
+        match name {
+            "m.mtl" => Ok(b"newmtl red\nKd 1 0 0\n".to_vec()),
+            "n.mtl" => Ok(b"newmtl blue\nKd 0 0 1\n".to_vec()),
+            _ => Err(std::io::ErrorKind::NotFound.into()),
+        }
+    };
+    let obj = format!(
+        "mtllib m.mtl m.mtl n.mtl\nmtllib m.mtl\n{TRI}usemtl red\nf 1 2 3\nusemtl blue\nf 1 2 3\n"
+    );
+    let scene = parse_obj(obj, "t.obj", &ObjOptions::default(), Precision::F32, library).unwrap();
+    // The whole line first (a name may contain spaces), then each library once.
+    assert_eq!(*reads.borrow(), ["m.mtl m.mtl n.mtl", "m.mtl", "n.mtl"]);
+    let colors: Vec<[f64; 3]> = scene
+        .shapes
+        .iter()
+        .map(|s| scene.materials[s.material as usize].color)
+        .collect();
+    assert_eq!(colors, [[1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]);
+}

@@ -64,18 +64,61 @@ pub struct BenchArgs {
     pub packets: PacketArgs,
 }
 
-/// Runs `tracer bench`: loads every scene, measures it, and prints the tables.
+/// Runs `tracer bench`: [`prepare`], then measures every scene and prints the tables.
 ///
 /// # Errors
 /// One line `FILE:LINE: message` or `FILE: message` for bad input.
 pub fn run(args: &BenchArgs) -> Result<(), String> {
+    let Prepared {
+        peer,
+        options: opts,
+        scenes,
+    } = prepare(args)?;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(opts.threads.unwrap_or(0))
+        .build()
+        .map_err(|e| format!("cannot create the thread pool: {e}"))?;
+    let mut rows = Vec::new();
+    for (name, desc) in &scenes {
+        let row = pool.install(|| match args.precision {
+            Precision::F32 => bench_scene::<f32>(name, desc, &opts),
+            Precision::F64 => bench_scene::<f64>(name, desc, &opts),
+        });
+        rows.push(row);
+    }
+    print!("{}", table(&rows, &peer));
+    println!("\n{LEGEND}");
+    let packets = packet_table(&rows);
+    if !packets.is_empty() {
+        print!("\n{packets}");
+        println!("\n{PACKET_LEGEND}");
+    }
+    Ok(())
+}
+
+/// A benchmark checked and ready to measure.
+pub struct Prepared {
+    /// The peer's times (`--peer`).
+    pub peer: Vec<(String, f64)>,
+    /// What to measure.
+    pub options: BenchOptions,
+    /// Each scene's short name and description, in the order given.
+    pub scenes: Vec<(String, SceneDesc)>,
+}
+
+/// Every check of `tracer bench` before the first measurement: the peer's times, the
+/// options, and every scene read.
+///
+/// # Errors
+/// As [`run`].
+pub fn prepare(args: &BenchArgs) -> Result<Prepared, String> {
     let peer = match &args.peer {
         Some(p) => parse_peer_times(
             &std::fs::read_to_string(p).map_err(|e| format!("{}: {e}", p.display()))?,
         ),
         None => Vec::new(),
     };
-    let opts = BenchOptions {
+    let options = BenchOptions {
         width: args.width,
         height: args.height,
         depth: args.depth,
@@ -92,11 +135,7 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
             args.packets.packets()?
         },
     };
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(opts.threads.unwrap_or(0))
-        .build()
-        .map_err(|e| format!("cannot create the thread pool: {e}"))?;
-    let mut rows = Vec::new();
+    let mut scenes = Vec::new();
     for path in &args.scenes {
         let desc = load_scene(path, &Default::default(), args.precision)?;
         let name = path
@@ -104,20 +143,13 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_default();
         let name = name.split('.').next().unwrap_or_default().to_string();
-        let row = pool.install(|| match args.precision {
-            Precision::F32 => bench_scene::<f32>(&name, &desc, &opts),
-            Precision::F64 => bench_scene::<f64>(&name, &desc, &opts),
-        });
-        rows.push(row);
+        scenes.push((name, desc));
     }
-    print!("{}", table(&rows, &peer));
-    println!("\n{LEGEND}");
-    let packets = packet_table(&rows);
-    if !packets.is_empty() {
-        print!("\n{packets}");
-        println!("\n{PACKET_LEGEND}");
-    }
-    Ok(())
+    Ok(Prepared {
+        peer,
+        options,
+        scenes,
+    })
 }
 
 /// Rays per parallel task when casting.

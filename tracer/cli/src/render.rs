@@ -225,12 +225,72 @@ fn crop_bounds([x0, x1, y0, y1]: [f64; 4], (w, h): (u32, u32)) -> PixelBounds {
 /// The largest image side.
 pub const MAX_SIDE: u32 = 65536;
 
-/// Runs `tracer render`.
+/// Runs `tracer render`: [`prepare`], then [`Prepared::render`].
 ///
 /// # Errors
 /// One line `FILE:LINE: message` or `FILE: message` for bad input or a failed write; no
 /// output file is left behind.
 pub fn run(args: &RenderArgs) -> Result<(), String> {
+    prepare(args)?.render()
+}
+
+/// A render checked and ready to trace: its options, scene and camera read and checked,
+/// its memory estimated against the machine's, its outputs opened as temporary files.
+pub struct Prepared<'a> {
+    args: &'a RenderArgs,
+    desc: SceneDesc,
+    settings: Settings,
+    accel: AccelOptions,
+    format: ImageFormat,
+    feedback: Feedback,
+    start: Mark,
+    parse: (f64, u64),
+    tile: Option<(u32, u32)>,
+    frames: Option<(Vec<script::Step>, u32, u32)>,
+    staged: Staged,
+}
+
+impl Prepared<'_> {
+    /// The image size the render will have.
+    pub fn size(&self) -> (u32, u32) {
+        (
+            self.settings.width.unwrap_or(0),
+            self.settings.height.unwrap_or(0),
+        )
+    }
+
+    /// Builds the scene, traces it and writes the outputs.
+    ///
+    /// # Errors
+    /// As [`run`].
+    pub fn render(self) -> Result<(), String> {
+        let job = Job {
+            args: self.args,
+            desc: &self.desc,
+            settings: &self.settings,
+            accel: &self.accel,
+            format: self.format,
+            feedback: &self.feedback,
+            start: self.start,
+            parse: self.parse,
+            tile: self.tile,
+            frames: self.frames,
+        };
+        match self.args.precision {
+            Precision::F32 => render_in::<f32>(&job, self.staged),
+            Precision::F64 => render_in::<f64>(&job, self.staged),
+        }
+    }
+}
+
+/// Every check of `tracer render` that needs no ray, in the order [`run`] makes them:
+/// the output paths and options first, then the scene, the camera, the image size and
+/// region, and the memory. Nothing is written but the outputs' temporary files, which
+/// dropping the result removes.
+///
+/// # Errors
+/// As [`run`].
+pub fn prepare(args: &RenderArgs) -> Result<Prepared<'_>, String> {
     let start = Mark::now();
     let format = ImageFormat::of(&args.output).ok_or_else(|| {
         format!(
@@ -333,22 +393,19 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
         wide: !args.binary_bvh,
         ..AccelOptions::default()
     };
-    let job = Job {
+    Ok(Prepared {
         args,
-        desc: &desc,
-        settings: &settings,
-        accel: &accel,
+        desc,
+        settings,
+        accel,
         format,
-        feedback: &feedback,
+        feedback,
         start,
         parse,
         tile,
         frames,
-    };
-    match args.precision {
-        Precision::F32 => render_in::<f32>(&job, staged),
-        Precision::F64 => render_in::<f64>(&job, staged),
-    }
+        staged,
+    })
 }
 
 /// Everything a render needs, in either precision.

@@ -15,6 +15,7 @@ suites!(
     accuracy,
     cli,
     cli_invariance,
+    fuzz_replay,
     render_checks,
     scene_input,
     tiles,

@@ -270,14 +270,20 @@ fn gunzip(data: &[u8], name: &str) -> Result<Vec<u8>, SceneError> {
     gunzip_at_most(data, name, MAX_INFLATED_BYTES)
 }
 
+/// The most bytes one byte of deflate data can inflate to, rounded up.
+const MAX_DEFLATE_RATIO: usize = 1032;
+
 /// Decompresses all gzip members of `data`; more than `limit` bytes is an error.
 fn gunzip_at_most(data: &[u8], name: &str, limit: u64) -> Result<Vec<u8>, SceneError> {
     // The last four bytes hold the size of the last member modulo 2^32 (RFC 1952,
     // ISIZE): a good first allocation for the usual single-member file, capped so that
-    // a forged trailer cannot ask for much.
+    // a forged trailer cannot ask for more than the data can inflate to (deflate's
+    // largest ratio is about 1032:1, RFC 1951's longest match of 258 bytes in two bits
+    // at best) nor for much.
     let hint = data
         .last_chunk::<4>()
         .map_or(0, |b| u32::from_le_bytes(*b) as usize)
+        .min(data.len().saturating_mul(MAX_DEFLATE_RATIO))
         .min(1 << 28)
         .min(usize::try_from(limit).unwrap_or(usize::MAX));
     let mut out = Vec::with_capacity(hint);

@@ -46,7 +46,7 @@
 //! them) must stay finite in `f32`. Faces whose vertices coincide or are collinear are
 //! degenerate but legal: kept here, dropped and counted by the geometry builder.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::io;
 use std::path::Path;
 
@@ -226,6 +226,8 @@ struct ObjReader<'a> {
     faces: Vec<Face>,
     materials: Vec<MaterialDesc>,
     material_names: HashMap<String, u32>,
+    /// The names of the libraries read: a library named again is not read again.
+    libraries_read: HashSet<String>,
     current: Option<u32>,
 }
 
@@ -242,6 +244,7 @@ impl<'a> ObjReader<'a> {
             faces: Vec::new(),
             materials: Vec::new(),
             material_names: HashMap::new(),
+            libraries_read: HashSet::new(),
             current: None,
         }
     }
@@ -394,7 +397,10 @@ impl<'a> ObjReader<'a> {
     }
 
     /// `mtllib a.mtl [b.mtl ...]`: each name relative to the OBJ file's directory. A
-    /// name with spaces is accepted when the whole rest of the line names a file.
+    /// name with spaces is accepted when the whole rest of the line names a file. A
+    /// library already read is not read again: its materials are known, and a file
+    /// naming one library many times must not cost that many readings (nor keep that
+    /// many copies of its materials).
     fn mtllib(&mut self, line: &[u8], n: u32) -> Result<(), SceneError> {
         let whole = rest_of_line(line);
         if whole.is_empty() {
@@ -403,14 +409,20 @@ impl<'a> ObjReader<'a> {
         // A name with spaces read whole, if it can be; else each word is a name.
         let mut read = Vec::new();
         if whole.contains(char::is_whitespace) {
+            if self.libraries_read.contains(&whole) {
+                return Ok(());
+            }
             if let Ok(lib) = (self.libraries)(&whole) {
+                self.libraries_read.insert(whole);
                 read.push(Ok(lib));
             }
         }
         if read.is_empty() {
             for w in words(line).skip(1) {
                 let name = String::from_utf8_lossy(w).into_owned();
-                read.push((self.libraries)(&name).map_err(|e| (name, e)));
+                if self.libraries_read.insert(name.clone()) {
+                    read.push((self.libraries)(&name).map_err(|e| (name, e)));
+                }
             }
         }
         for lib in read {

@@ -99,17 +99,23 @@ impl AccuracyArgs {
     }
 }
 
-/// Runs `tracer accuracy`: loads every scene first (so bad input fails before any
-/// rendering), measures each, and writes the report. Errors are one line.
-pub fn run(args: &AccuracyArgs) -> Result<(), String> {
+/// A scene of `tracer accuracy`: its name in the report, its path, and its description.
+pub type NamedScene = (String, String, tracer::scene::desc::SceneDesc);
+
+/// Every check of `tracer accuracy` before the first render: the options, every scene
+/// read, no two scenes with one report name, and a report path that is not a file.
+///
+/// # Errors
+/// One line naming the file or option.
+pub fn prepare(args: &AccuracyArgs) -> Result<(Options, Vec<NamedScene>), String> {
     let options = args.options();
     options.check()?;
-    let mut scenes = Vec::new();
+    let mut scenes: Vec<NamedScene> = Vec::new();
     for path in &args.scenes {
         // Strict for f32: the experiments render in both precisions.
         let desc = load_scene(path, &Default::default(), Precision::F32)?;
         let name = scene_name(path);
-        if scenes.iter().any(|(n, _, _): &(String, _, _)| *n == name) {
+        if scenes.iter().any(|(n, _, _)| *n == name) {
             return Err(format!(
                 "{}: two scenes named `{name}` would write the same report files",
                 path.display()
@@ -123,6 +129,13 @@ pub fn run(args: &AccuracyArgs) -> Result<(), String> {
             args.output.display()
         ));
     }
+    Ok((options, scenes))
+}
+
+/// Runs `tracer accuracy`: loads every scene first (so bad input fails before any
+/// rendering, [`prepare`]), measures each, and writes the report. Errors are one line.
+pub fn run(args: &AccuracyArgs) -> Result<(), String> {
+    let (options, scenes) = prepare(args)?;
     std::fs::create_dir_all(&args.output).map_err(|e| {
         format!(
             "{}: cannot create the report directory: {e}",
