@@ -9,15 +9,11 @@
 
 use crate::expr::{Expr, Operand};
 use crate::scalar::Scalar;
+use crate::simd::Lanes4;
 use crate::vector::Vector;
 use core::fmt;
 use core::ops::{Add, AddAssign, Div, DivAssign, Index, Mul, MulAssign, Neg, Sub, SubAssign};
 use typenum::U3;
-
-/// Four `f32` lanes aligned to 16 bytes: the storage of [`Vec3A`].
-#[derive(Clone, Copy, PartialEq)]
-#[repr(C, align(16))]
-pub(crate) struct Lanes4(pub(crate) [f32; 4]);
 
 /// The register type of the kernels: an SSE register on x86-64, an array packet elsewhere.
 #[cfg(target_arch = "x86_64")]
@@ -148,12 +144,6 @@ impl RegExt for Reg {
 #[derive(Clone, Copy, Default)]
 #[repr(transparent)]
 pub struct Vec3A(Lanes4);
-
-impl Default for Lanes4 {
-    fn default() -> Self {
-        Self([0.0; 4])
-    }
-}
 
 impl Vec3A {
     /// All zeros.

@@ -170,6 +170,12 @@ macro_rules! lane_boilerplate {
     };
 }
 
+/// Four `f32` lanes aligned to 16 bytes: one SSE register in memory, loaded and stored
+/// with single aligned instructions (the storage of [`crate::Vec3A`]).
+#[derive(Clone, Copy, PartialEq, Default)]
+#[repr(C, align(16))]
+pub(crate) struct Lanes4(pub(crate) [f32; 4]);
+
 #[cfg(target_arch = "x86_64")]
 mod avx2;
 #[cfg(target_arch = "x86_64")]

@@ -66,15 +66,15 @@ impl F32x4 {
 impl F32x4 {
     /// From a 16-byte aligned array (one aligned load).
     #[inline(always)]
-    pub(crate) fn load_aligned(a: &crate::vec3a::Lanes4) -> Self {
+    pub(crate) fn load_aligned(a: &super::Lanes4) -> Self {
         // SAFETY: SSE baseline; `Lanes4` is four floats aligned to 16 bytes.
         Self(unsafe { _mm_load_ps(a.0.as_ptr()) })
     }
 
     /// Into a 16-byte aligned array (one aligned store).
     #[inline(always)]
-    pub(crate) fn store_aligned(self) -> crate::vec3a::Lanes4 {
-        let mut out = crate::vec3a::Lanes4([0.0; 4]);
+    pub(crate) fn store_aligned(self) -> super::Lanes4 {
+        let mut out = super::Lanes4([0.0; 4]);
         // SAFETY: SSE baseline; `Lanes4` is four floats aligned to 16 bytes.
         unsafe { _mm_store_ps(out.0.as_mut_ptr(), self.0) };
         out
