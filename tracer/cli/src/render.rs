@@ -237,26 +237,15 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
 /// A render checked and ready to trace: its options, scene and camera read and checked,
 /// its memory estimated against the machine's, its outputs opened as temporary files.
 pub struct Prepared<'a> {
-    args: &'a RenderArgs,
-    desc: SceneDesc,
-    settings: Settings,
-    accel: AccelOptions,
-    format: ImageFormat,
-    feedback: Feedback,
-    start: Mark,
-    parse: (f64, u64),
-    tile: Option<(u32, u32)>,
-    frames: Option<(Vec<script::Step>, u32, u32)>,
+    job: Job<'a>,
     staged: Staged,
 }
 
 impl Prepared<'_> {
     /// The image size the render will have.
     pub fn size(&self) -> (u32, u32) {
-        (
-            self.settings.width.unwrap_or(0),
-            self.settings.height.unwrap_or(0),
-        )
+        let s = &self.job.settings;
+        (s.width.unwrap_or(0), s.height.unwrap_or(0))
     }
 
     /// Builds the scene, traces it and writes the outputs.
@@ -264,21 +253,9 @@ impl Prepared<'_> {
     /// # Errors
     /// As [`run`].
     pub fn render(self) -> Result<(), String> {
-        let job = Job {
-            args: self.args,
-            desc: &self.desc,
-            settings: &self.settings,
-            accel: &self.accel,
-            format: self.format,
-            feedback: &self.feedback,
-            start: self.start,
-            parse: self.parse,
-            tile: self.tile,
-            frames: self.frames,
-        };
-        match self.args.precision {
-            Precision::F32 => render_in::<f32>(&job, self.staged),
-            Precision::F64 => render_in::<f64>(&job, self.staged),
+        match self.job.args.precision {
+            Precision::F32 => render_in::<f32>(&self.job, self.staged),
+            Precision::F64 => render_in::<f64>(&self.job, self.staged),
         }
     }
 }
@@ -394,16 +371,18 @@ pub fn prepare(args: &RenderArgs) -> Result<Prepared<'_>, String> {
         ..AccelOptions::default()
     };
     Ok(Prepared {
-        args,
-        desc,
-        settings,
-        accel,
-        format,
-        feedback,
-        start,
-        parse,
-        tile,
-        frames,
+        job: Job {
+            args,
+            desc,
+            settings,
+            accel,
+            format,
+            feedback,
+            start,
+            parse,
+            tile,
+            frames,
+        },
         staged,
     })
 }
@@ -411,11 +390,11 @@ pub fn prepare(args: &RenderArgs) -> Result<Prepared<'_>, String> {
 /// Everything a render needs, in either precision.
 struct Job<'a> {
     args: &'a RenderArgs,
-    desc: &'a SceneDesc,
-    settings: &'a Settings,
-    accel: &'a AccelOptions,
+    desc: SceneDesc,
+    settings: Settings,
+    accel: AccelOptions,
     format: ImageFormat,
-    feedback: &'a Feedback,
+    feedback: Feedback,
     start: Mark,
     parse: (f64, u64),
     /// Tile index and count (`--tile`).
@@ -474,11 +453,11 @@ fn stage(args: &RenderArgs, number: Option<u32>) -> Result<Staged, String> {
 }
 
 fn render_in<T: tracer::Float>(job: &Job<'_>, staged: Staged) -> Result<(), String> {
-    let desc = job.desc;
+    let desc = &job.desc;
     job.feedback
         .phase("building", &format!("{} primitives", desc.shapes.len()));
     let build_start = Mark::now();
-    let mut scene = Scene::<T>::from_desc(desc, job.accel);
+    let mut scene = Scene::<T>::from_desc(desc, &job.accel);
     let build = (build_start.ms(), build_start.cycles());
     let Some((steps, a, b)) = &job.frames else {
         return one(job, &scene, None, build, staged);
@@ -512,7 +491,7 @@ fn one<T: tracer::Float>(
     (build_ms, build_cycles): (f64, u64),
     mut staged: Staged,
 ) -> Result<(), String> {
-    let (args, desc, accel) = (job.args, job.desc, job.accel);
+    let (args, desc, accel) = (job.args, &job.desc, &job.accel);
     let (parse_ms, parse_cycles) = job.parse;
     let (w, h) = job.settings.size(scene.camera.resolution);
     // The split's probe render is work every tile task does before tracing its tile.
@@ -520,7 +499,7 @@ fn one<T: tracer::Float>(
     let region = match (args.pixel_bounds, args.crop, job.tile) {
         (Some(b), _, _) => Some(b),
         (_, Some(c), _) => Some(crop_bounds(c, (w, h))),
-        (_, _, Some((i, n))) => Some(tiles::split(scene, job.settings, n)?[i as usize]),
+        (_, _, Some((i, n))) => Some(tiles::split(scene, &job.settings, n)?[i as usize]),
         _ => None,
     };
     let split_ms = split_start.ms();
@@ -535,7 +514,7 @@ fn one<T: tracer::Float>(
     let output = number.map_or(args.output.clone(), |k| tiles::numbered(&args.output, k));
     let part = region.map_or(String::new(), |b| format!(" pixels {b}"));
     job.feedback.phase("tracing", &format!("{w}x{h}{part}"));
-    let (image, stats) = render_with_progress(scene, settings, job.feedback);
+    let (image, stats) = render_with_progress(scene, settings, &job.feedback);
     job.feedback.phase("writing", &output.display().to_string());
     let header = TileHeader {
         full: (w, h),
