@@ -24,7 +24,11 @@ for r in $(seq 1 "$rounds"); do
     bin=$old
     [ $b = new ] && bin=$new
     echo "== $b" >>"$out"
-    "$bin" --runs 5 --threads 1,2 --sizes 512x512 --no-user-spheres "${scenes[@]}" 2>/dev/null |
+    # Builds that know --no-user-spheres list it in their usage; older ones measure
+    # the built-in spheres only anyway.
+    only_builtin=()
+    case $("$bin" 2>&1 || true) in *--no-user-spheres*) only_builtin=(--no-user-spheres) ;; esac
+    "$bin" --runs 5 --threads 1,2 --sizes 512x512 "${only_builtin[@]}" "${scenes[@]}" 2>/dev/null |
       grep '^| [^ ]* | [0-9]*x[0-9]* |' >>"$out"
   done
 done
