@@ -40,12 +40,37 @@
 //! queries `ClosestPacket` and `AnyPacket` bring their lane kernels and packet walks,
 //! and hand their last rays over to `RayQuery`'s own walk.
 //!
-//! All of it is `#[inline(always)]`, and the walks see the closures the hand-written
-//! drivers gave them (any hit: `Some(t_max)` on a hit, the occluder in a local), so
-//! each instance compiles to the hand-written query's code. Instructions per frame
-//! against the hand-written drivers (A, the commit before the driver; B, the driver):
+//! All of it is `#[inline(always)]`, the leaf tests are the hand-written drivers' (any
+//! hit: `Some(t_max)` on a hit, the occluder in the query's local record), and the
+//! single-ray walks take them as a [`crate::bvh::traverse::LeafVisitor`], so each
+//! instance compiles to the code of a query written out alone. Instructions per frame
+//! against the hand-written drivers (A, the commit before the driver; B, the driver),
+//! `tracer/scripts/instructions.sh "A --packets off" "B --packets off"`, the same with
+//! `--packets auto`, and both again with `SCENES="gears-s4 tetra-s6"` and `--depth 1`
+//! (callgrind, 128×128, one thread; both
+//! built with `cargo build --profile perf -p tracer-cli`):
 //!
-//! MEASUREMENTS
+//! | scene | `--packets off` A | B | B / A | `--packets auto` A | B | B / A |
+//! |---|---:|---:|---:|---:|---:|---:|
+//! | balls-s4 | 107.28 M | 107.19 M | 0.9991 | 101.99 M | 101.58 M | 0.9960 |
+//! | gears-s4 | 129.81 M | 130.25 M | 1.0034 | 131.06 M | 130.66 M | 0.9969 |
+//! | mount-s6 | 112.58 M | 112.85 M | 1.0024 | 106.49 M | 106.89 M | 1.0038 |
+//! | rings-s7 | 279.78 M | 276.20 M | 0.9872 | 271.10 M | 268.55 M | 0.9906 |
+//! | teapot-s12 | 66.79 M | 66.91 M | 1.0018 | 64.14 M | 64.14 M | 0.9999 |
+//! | tetra-s6 | 16.55 M | 16.05 M | 0.9695 | 17.31 M | 17.31 M | 0.9997 |
+//! | tree-s11 | 87.48 M | 86.74 M | 0.9915 | 85.38 M | 84.81 M | 0.9933 |
+//! | gears-s4, `--depth 1` | 77.96 M | 78.87 M | 1.0117 | 80.46 M | 80.61 M | 1.0020 |
+//! | tetra-s6, `--depth 1` | 16.57 M | 16.06 M | 0.9693 | 17.31 M | 17.30 M | 0.9996 |
+//!
+//! Every row is within 0.5 % but one: gears-s4 at depth 1 with single rays, where the
+//! shadow rays' any-hit queries are most of the work, runs 1.2 % more (callgrind puts the
+//! difference in the shading function's inlined shadow queries: their ray set-up and box
+//! tests; not resolved). Passing the leaf test to the walks as a closure, as the
+//! hand-written drivers did, cost more: the shading's two shadow tests (with and without
+//! a cache entry) are one query instance, so they shared one leaf closure, which the
+//! compiler left out of line; gears-s4 at depth 1 ran 80.21 M against 77.96 M
+//! instructions (1.029), teapot-s12 1.019, tree-s11 1.016 with single rays and 1.023 with
+//! packets. The walks now take a `LeafVisitor` whose method is always inlined.
 //!
 //! # BVH
 //! Binned SAH (Wald 2007) over conservative `f32` boxes, built in parallel and
