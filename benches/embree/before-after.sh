@@ -4,7 +4,7 @@
 # tracer), so machine load hits both builds alike. Prints, per scene, thread count and
 # ray kind, the median over the rounds of the tracer / Embree ratio per wall second and,
 # in parentheses, per CPU second, before and after; then the geometric means per kind
-# and thread count.
+# and thread count. Embree keeps its built-in spheres here (--no-user-spheres).
 # Usage: benches/embree/before-after.sh OLD_BENCH NEW_BENCH [ROUNDS] [SCENE.nff...]
 #   Build a bench binary with `cargo bench -p benches --features embree --bench embree
 #   --no-run` (it prints the executable's path) and copy it away before building the
@@ -24,7 +24,11 @@ for r in $(seq 1 "$rounds"); do
     bin=$old
     [ $b = new ] && bin=$new
     echo "== $b" >>"$out"
-    "$bin" --runs 5 --threads 1,2 --sizes 512x512 "${scenes[@]}" 2>/dev/null |
+    # Builds that know --no-user-spheres list it in their usage; older ones measure
+    # the built-in spheres only anyway.
+    only_builtin=()
+    case $("$bin" 2>&1 || true) in *--no-user-spheres*) only_builtin=(--no-user-spheres) ;; esac
+    "$bin" --runs 5 --threads 1,2 --sizes 512x512 "${only_builtin[@]}" "${scenes[@]}" 2>/dev/null |
       grep '^| [^ ]* | [0-9]*x[0-9]* |' >>"$out"
   done
 done

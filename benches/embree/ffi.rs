@@ -1,8 +1,9 @@
 //! The part of the Embree 3 C API (`embree3/rtcore*.h`, version 3.13) this bench uses,
-//! declared by hand: a device, a scene of triangle meshes, sphere points and cone
-//! curves, and the single-ray and 16-ray queries. The layouts follow the headers as
-//! Debian's `libembree-dev` 3.13.5 configures them: `RTC_MAX_INSTANCE_LEVEL_COUNT` 1 and
-//! `RTC_MIN_WIDTH` 0 (`rtcore_config.h`), so the intersection context has no instance
+//! declared by hand: a device, a scene of triangle meshes, sphere points, cone curves
+//! and user geometry with its callbacks, and the single-ray and 16-ray queries. The
+//! layouts follow the headers as Debian's `libembree-dev` 3.13.5 configures them:
+//! `RTC_MAX_INSTANCE_LEVEL_COUNT` 1 and `RTC_MIN_WIDTH` 0 (`rtcore_config.h`), so the
+//! intersection context has no instance
 //! stack size and no minimum-width factor.
 
 #![allow(non_camel_case_types, dead_code)]
@@ -25,6 +26,8 @@ pub const RTC_GEOMETRY_TYPE_TRIANGLE: c_int = 0;
 pub const RTC_GEOMETRY_TYPE_CONE_LINEAR_CURVE: c_int = 15;
 /// Spheres given as points with a radius.
 pub const RTC_GEOMETRY_TYPE_SPHERE_POINT: c_int = 50;
+/// Primitives defined by the application's bounds, intersect and occluded callbacks.
+pub const RTC_GEOMETRY_TYPE_USER: c_int = 120;
 
 /// `enum RTCBufferType`.
 pub const RTC_BUFFER_TYPE_INDEX: c_int = 0;
@@ -150,6 +153,68 @@ pub struct RTCRayHit16 {
     pub hit: RTCHit16,
 }
 
+/// `struct RTCBounds` (`rtcore_common.h`).
+#[repr(C, align(16))]
+#[derive(Clone, Copy, Debug, Default)]
+pub struct RTCBounds {
+    pub lower_x: f32,
+    pub lower_y: f32,
+    pub lower_z: f32,
+    pub align0: f32,
+    pub upper_x: f32,
+    pub upper_y: f32,
+    pub upper_z: f32,
+    pub align1: f32,
+}
+
+/// `struct RTCBoundsFunctionArguments` (`rtcore_geometry.h`).
+#[repr(C)]
+pub struct RTCBoundsFunctionArguments {
+    /// The geometry's user data.
+    pub geometry_user_ptr: *mut c_void,
+    pub prim_id: c_uint,
+    pub time_step: c_uint,
+    /// Where the callback writes the bounds.
+    pub bounds_o: *mut RTCBounds,
+}
+
+/// `struct RTCIntersectFunctionNArguments` (`rtcore_geometry.h`).
+#[repr(C)]
+pub struct RTCIntersectFunctionNArguments {
+    /// `N` entries: -1 for an active ray, 0 for an inactive one.
+    pub valid: *mut c_int,
+    /// The pointer given to `rtcSetGeometryUserData`.
+    pub geometry_user_ptr: *mut c_void,
+    pub prim_id: c_uint,
+    pub context: *mut RTCIntersectContext,
+    /// `struct RTCRayHitN*`: `N` rays and hits, structure of arrays.
+    pub rayhit: *mut c_void,
+    pub n: c_uint,
+    pub geom_id: c_uint,
+}
+
+/// `struct RTCOccludedFunctionNArguments` (`rtcore_geometry.h`).
+#[repr(C)]
+pub struct RTCOccludedFunctionNArguments {
+    /// `N` entries: -1 for an active ray, 0 for an inactive one.
+    pub valid: *mut c_int,
+    /// The pointer given to `rtcSetGeometryUserData`.
+    pub geometry_user_ptr: *mut c_void,
+    pub prim_id: c_uint,
+    pub context: *mut RTCIntersectContext,
+    /// `struct RTCRayN*`: `N` rays, structure of arrays.
+    pub ray: *mut c_void,
+    pub n: c_uint,
+    pub geom_id: c_uint,
+}
+
+/// `RTCBoundsFunction`.
+pub type RTCBoundsFunction = unsafe extern "C" fn(args: *const RTCBoundsFunctionArguments);
+/// `RTCIntersectFunctionN`.
+pub type RTCIntersectFunctionN = unsafe extern "C" fn(args: *const RTCIntersectFunctionNArguments);
+/// `RTCOccludedFunctionN`.
+pub type RTCOccludedFunctionN = unsafe extern "C" fn(args: *const RTCOccludedFunctionNArguments);
+
 // Checked against the C layouts: sizes and the offsets that differ between packings.
 const _: () = {
     assert!(std::mem::size_of::<RTCRay>() == 48);
@@ -160,6 +225,20 @@ const _: () = {
     assert!(std::mem::size_of::<RTCRayHit16>() == 1280);
     assert!(std::mem::size_of::<RTCIntersectContext>() == 24);
     assert!(std::mem::offset_of!(RTCIntersectContext, filter) == 8);
+    assert!(std::mem::size_of::<RTCBounds>() == 32);
+    assert!(std::mem::size_of::<RTCBoundsFunctionArguments>() == 24);
+    assert!(std::mem::offset_of!(RTCBoundsFunctionArguments, bounds_o) == 16);
+    assert!(std::mem::size_of::<RTCIntersectFunctionNArguments>() == 48);
+    assert!(std::mem::offset_of!(RTCIntersectFunctionNArguments, context) == 24);
+    assert!(std::mem::offset_of!(RTCIntersectFunctionNArguments, n) == 40);
+    assert!(std::mem::size_of::<RTCOccludedFunctionNArguments>() == 48);
+    assert!(std::mem::offset_of!(RTCOccludedFunctionNArguments, ray) == 32);
+    // The structure-of-arrays view of the user-geometry callbacks
+    // (`benches/support/user_spheres.rs`): ray fields, then hit fields, 32-bit words.
+    assert!(std::mem::offset_of!(RTCRayHit, hit) == 12 * 4);
+    assert!(std::mem::offset_of!(RTCRayHit16, hit) == 12 * 16 * 4);
+    assert!(std::mem::offset_of!(RTCRay, tfar) == 8 * 4);
+    assert!(std::mem::offset_of!(RTCHit16, inst_id) == 7 * 16 * 4);
 };
 
 #[link(name = "embree3")]
@@ -182,6 +261,21 @@ extern "C" {
         byte_stride: usize,
         item_count: usize,
     ) -> *mut c_void;
+    pub fn rtcSetGeometryUserPrimitiveCount(geometry: RTCGeometry, count: c_uint);
+    pub fn rtcSetGeometryUserData(geometry: RTCGeometry, ptr: *mut c_void);
+    pub fn rtcSetGeometryBoundsFunction(
+        geometry: RTCGeometry,
+        bounds: Option<RTCBoundsFunction>,
+        user_ptr: *mut c_void,
+    );
+    pub fn rtcSetGeometryIntersectFunction(
+        geometry: RTCGeometry,
+        intersect: Option<RTCIntersectFunctionN>,
+    );
+    pub fn rtcSetGeometryOccludedFunction(
+        geometry: RTCGeometry,
+        occluded: Option<RTCOccludedFunctionN>,
+    );
     pub fn rtcIntersect1(
         scene: RTCScene,
         context: *mut RTCIntersectContext,

@@ -14,7 +14,7 @@
 //!
 //! Geometry: polygons and patches are cut into triangles by the tracer's own
 //! triangulation and given to Embree as one triangle mesh; spheres as one
-//! `RTC_GEOMETRY_TYPE_SPHERE_POINT` geometry; cones and cylinders as
+//! `RTC_GEOMETRY_TYPE_SPHERE_POINT` geometry (Embree's built-in spheres); cones and cylinders as
 //! `RTC_GEOMETRY_TYPE_CONE_LINEAR_CURVE` segments, one per NFF cone, with no neighbours.
 //! Embree's cone curves have flat end caps where NFF cones are open, so a ray through
 //! the open end of a cone is a hit in Embree only; in the SPD scenes (the tree's
@@ -22,17 +22,32 @@
 //! difference remains. The alternative, user geometry with the tracer's own cone test
 //! called back from Embree, would measure a callback per cone rather than Embree.
 //!
-//! Each measurement is repeated `--runs` times, Embree and tracer interleaved, and the
-//! median wall time is reported as Mrays/s, with Mrays per CPU second of all threads in
-//! parentheses (steadier on a shared machine); the ratio is tracer / Embree throughput. The
+//! **Embree user spheres.** For a scene with spheres a second Embree scene is built, the
+//! same except that its spheres are one `RTC_GEOMETRY_TYPE_USER` geometry: Embree's BVH
+//! over the boxes of a bounds callback, and in its leaves intersect and occluded
+//! callbacks ([`user_sphere_intersect`], [`user_sphere_occluded`]) running a plain sphere
+//! test of the bench's own (`benches/support/user_spheres.rs`, after Haines et al.,
+//! *Ray Tracing Gems* chapter 7), not the tracer's. The callbacks take packets of any
+//! width `N` through the documented structure-of-arrays layout, so `rtcIntersect16` runs
+//! them too, at whatever width Embree's traversal hands over. These rows get a table of
+//! their own beside the built-in spheres' (`--no-user-spheres` leaves them out).
+//!
+//! Each measurement is repeated `--runs` times, Embree (then Embree with user spheres,
+//! where measured) and the tracer interleaved round by round, and the median wall time is
+//! reported as Mrays/s, with Mrays per CPU second of all threads in parentheses (steadier
+//! on a shared machine); the ratio is tracer / Embree throughput. Embree's side keeps the
+//! hit distance of each ray, the tracer's single rays their full hit record. The
 //! agreement is the share of rays where both report the same hit or miss. Build times
 //! (from the parsed scene description, conversion included, on all cores; Embree's
-//! without creating the device) are printed too. The environment variable `EMBREE_CONFIG` is passed to `rtcNewDevice`.
+//! without creating the device) are printed too. The environment variable
+//! `EMBREE_CONFIG` is passed to `rtcNewDevice`.
 
 mod ffi;
 
+use benches::user_spheres::{self, HIT_FIELDS, RAY_FIELDS};
 use ffi::*;
 use rayon::prelude::*;
+use std::ffi::c_void;
 use std::path::PathBuf;
 use std::time::Instant;
 use tracer::geometry::{offset_ray, polygon::triangulate, AccelOptions};
@@ -46,10 +61,24 @@ use vecexpr::Expr;
 /// Rays per parallel task (tasks of packets: this many rays in packets of 16).
 const CHUNK: usize = 1024;
 
+/// How a scene's spheres are given to Embree.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Spheres {
+    /// `RTC_GEOMETRY_TYPE_SPHERE_POINT`, Embree's own sphere primitive.
+    BuiltIn,
+    /// `RTC_GEOMETRY_TYPE_USER` with the bench's callbacks.
+    User,
+}
+
 /// An Embree device and scene, released on drop.
 struct Embree {
     device: RTCDevice,
     scene: RTCScene,
+    /// The user geometry's spheres (centre, radius), read by its callbacks through the
+    /// geometry's user pointer; dropped after the scene is released (empty with
+    /// [`Spheres::BuiltIn`]).
+    #[expect(dead_code, reason = "owns the buffer Embree reads through a pointer")]
+    user_spheres: Vec<[f32; 4]>,
 }
 
 // SAFETY: a committed Embree scene may be queried from any number of threads at once
@@ -83,10 +112,97 @@ unsafe fn fill_buffer<T: Copy>(geom: RTCGeometry, kind: i32, format: i32, items:
     }
 }
 
+/// The sphere `prim_id` of a user geometry whose user pointer is `user_ptr`.
+///
+/// # Safety
+/// `user_ptr` is the first of the live spheres of [`Embree::user_spheres`], and
+/// `prim_id` is below their count (Embree passes the ids `0..count` given to
+/// `rtcSetGeometryUserPrimitiveCount`).
+#[inline(always)]
+unsafe fn user_sphere(user_ptr: *mut c_void, prim_id: u32) -> [f32; 4] {
+    // SAFETY: in bounds of the live, unchanged buffer by the caller's guarantee.
+    unsafe { *(user_ptr as *const [f32; 4]).add(prim_id as usize) }
+}
+
+/// The bounds callback of the user spheres.
+///
+/// # Safety
+/// Called by Embree during the build with valid arguments for the user geometry made
+/// in [`Embree::build`].
+unsafe extern "C" fn user_sphere_bounds(args: *const RTCBoundsFunctionArguments) {
+    // SAFETY: Embree passes a valid argument structure whose `bounds_o` is writable; the
+    // user pointer (given both as user data and as the bounds payload) and the primitive
+    // id satisfy `user_sphere`'s contract.
+    unsafe {
+        let a = &*args;
+        let (lo, hi) = user_spheres::sphere_bounds(user_sphere(a.geometry_user_ptr, a.prim_id));
+        *a.bounds_o = RTCBounds {
+            lower_x: lo[0],
+            lower_y: lo[1],
+            lower_z: lo[2],
+            align0: 0.0,
+            upper_x: hi[0],
+            upper_y: hi[1],
+            upper_z: hi[2],
+            align1: 0.0,
+        };
+    }
+}
+
+/// The intersect callback of the user spheres: the closest hits of `N` rays against one
+/// sphere ([`user_spheres::intersect_lanes`]).
+///
+/// # Safety
+/// Called by Embree during a closest-hit query with valid arguments for the user
+/// geometry made in [`Embree::build`].
+unsafe extern "C" fn user_sphere_intersect(args: *const RTCIntersectFunctionNArguments) {
+    // SAFETY: Embree passes `N` entries in `valid`, the query's live context, and in
+    // `rayhit` `N` rays and hits as a structure of arrays (`rtcore_ray.h`, `RTCRayHitN`:
+    // 12 ray then 8 hit fields of `N` 32-bit words with RTC_MAX_INSTANCE_LEVEL_COUNT 1),
+    // which no one else touches during the call; the user pointer and primitive id
+    // satisfy `user_sphere`'s contract.
+    unsafe {
+        let a = &*args;
+        let n = a.n as usize;
+        let valid = std::slice::from_raw_parts(a.valid, n);
+        let rayhit =
+            std::slice::from_raw_parts_mut(a.rayhit as *mut u32, (RAY_FIELDS + HIT_FIELDS) * n);
+        user_spheres::intersect_lanes(
+            valid,
+            user_sphere(a.geometry_user_ptr, a.prim_id),
+            a.prim_id,
+            a.geom_id,
+            (*a.context).inst_id[0],
+            rayhit,
+        );
+    }
+}
+
+/// The occluded callback of the user spheres: `tfar = -inf` for each of the `N` rays
+/// that the sphere blocks ([`user_spheres::occluded_lanes`]).
+///
+/// # Safety
+/// Called by Embree during an any-hit query with valid arguments for the user geometry
+/// made in [`Embree::build`].
+unsafe extern "C" fn user_sphere_occluded(args: *const RTCOccludedFunctionNArguments) {
+    // SAFETY: Embree passes `N` entries in `valid` and in `ray` `N` rays as a structure
+    // of arrays (`RTCRayN`: 12 fields of `N` 32-bit words), which no one else touches
+    // during the call; the user pointer and primitive id satisfy `user_sphere`'s
+    // contract.
+    unsafe {
+        let a = &*args;
+        let n = a.n as usize;
+        let valid = std::slice::from_raw_parts(a.valid, n);
+        let ray = std::slice::from_raw_parts_mut(a.ray as *mut u32, RAY_FIELDS * n);
+        user_spheres::occluded_lanes(valid, user_sphere(a.geometry_user_ptr, a.prim_id), ray);
+    }
+}
+
 impl Embree {
-    /// Builds the Embree scene of `desc` (see the module docs for the mapping), and
-    /// the seconds it took, not counting the creation of the device.
-    fn build(desc: &SceneDesc) -> (Self, f64) {
+    /// Builds the Embree scene of `desc` (see the module docs for the mapping), with its
+    /// spheres as `spheres` says, and the seconds it took, not counting the creation of
+    /// the device.
+    fn build(desc: &SceneDesc, spheres_as: Spheres) -> (Self, f64) {
         // EMBREE_CONFIG is passed to the device (for example `verbose=1` prints the ISA
         // and build settings Embree chose).
         let config = std::env::var("EMBREE_CONFIG")
@@ -126,8 +242,15 @@ impl Embree {
                 }
             }
         }
+        let user_spheres = match spheres_as {
+            Spheres::User => std::mem::take(&mut spheres),
+            Spheres::BuiltIn => Vec::new(),
+        };
         // SAFETY: the device is live; every geometry comes from it; the buffers are
-        // filled with items of the size given for their format.
+        // filled with items of the size given for their format; the user geometry's
+        // pointer is the first of `user_spheres`, whose heap buffer the returned value
+        // keeps alive and unchanged until after the scene is released, and its primitive
+        // count is their number, as the callbacks require.
         unsafe {
             let scene = rtcNewScene(device);
             let attach = |geom: RTCGeometry| {
@@ -146,6 +269,16 @@ impl Embree {
                 fill_buffer(g, RTC_BUFFER_TYPE_VERTEX, RTC_FORMAT_FLOAT4, &spheres);
                 attach(g);
             }
+            if !user_spheres.is_empty() {
+                let g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
+                let ptr = user_spheres.as_ptr() as *mut c_void;
+                rtcSetGeometryUserPrimitiveCount(g, user_spheres.len() as u32);
+                rtcSetGeometryUserData(g, ptr);
+                rtcSetGeometryBoundsFunction(g, Some(user_sphere_bounds), ptr);
+                rtcSetGeometryIntersectFunction(g, Some(user_sphere_intersect));
+                rtcSetGeometryOccludedFunction(g, Some(user_sphere_occluded));
+                attach(g);
+            }
             if !cones.is_empty() {
                 let g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_CONE_LINEAR_CURVE);
                 fill_buffer(g, RTC_BUFFER_TYPE_VERTEX, RTC_FORMAT_FLOAT4, &cones);
@@ -157,7 +290,12 @@ impl Embree {
             rtcCommitScene(scene);
             let err = rtcGetDeviceError(device);
             assert_eq!(err, RTC_ERROR_NONE, "Embree error {err}");
-            (Self { device, scene }, start.elapsed().as_secs_f64())
+            let built = Self {
+                device,
+                scene,
+                user_spheres,
+            };
+            (built, start.elapsed().as_secs_f64())
         }
     }
 
@@ -293,25 +431,34 @@ fn timed(f: &mut impl FnMut()) -> (f64, f64) {
     (wall, cpu)
 }
 
-/// Median times of `a` and of `b`, run alternately `runs` times.
-fn interleaved(runs: usize, mut a: impl FnMut(), mut b: impl FnMut()) -> (Timing, Timing) {
-    let (mut wa, mut ca, mut wb, mut cb) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+/// Median times of each of `fs`, run one after the other, round by round, `runs` times.
+fn interleaved(runs: usize, fs: &mut [&mut dyn FnMut()]) -> Vec<Timing> {
     // One untimed round of each first (page faults, caches, thread start).
-    a();
-    b();
-    for _ in 0..runs {
-        let (w, c) = timed(&mut a);
-        wa.push(w);
-        ca.push(c);
-        let (w, c) = timed(&mut b);
-        wb.push(w);
-        cb.push(c);
+    for f in fs.iter_mut() {
+        f();
     }
-    let t = |w, c| Timing {
-        wall: median(w),
-        cpu: median(c),
-    };
-    (t(wa, ca), t(wb, cb))
+    let mut times = vec![(Vec::new(), Vec::new()); fs.len()];
+    for _ in 0..runs {
+        for (f, (w, c)) in fs.iter_mut().zip(&mut times) {
+            let (wall, cpu) = timed(f);
+            w.push(wall);
+            c.push(cpu);
+        }
+    }
+    times
+        .into_iter()
+        .map(|(w, c)| Timing {
+            wall: median(w),
+            cpu: median(c),
+        })
+        .collect()
+}
+
+/// One side's result of one row: median times and agreement with the tracer.
+#[derive(Clone, Copy, Debug)]
+struct Side {
+    time: Timing,
+    agree: f64,
 }
 
 /// One row of the report.
@@ -321,9 +468,11 @@ struct Row {
     threads: usize,
     kind: &'static str,
     rays: usize,
-    embree: Timing,
+    /// Embree with its built-in sphere primitive.
+    embree: Side,
+    /// Embree with the spheres as user geometry (scenes with spheres only).
+    user: Option<Side>,
     tracer: Timing,
-    agree: f64,
 }
 
 /// Indices of the eye rays in packet order: 4x4 tiles, row by row inside a tile.
@@ -354,11 +503,96 @@ fn agreement(a: impl Iterator<Item = bool>, b: impl Iterator<Item = bool>) -> f6
     }
 }
 
-/// All measurements of one scene at one size on the current rayon pool.
+/// `out[i] = f(&items[i])` for all `i`, in parallel tasks of [`CHUNK`] items.
+#[inline]
+fn par_map<I: Sync, O: Send>(out: &mut [O], items: &[I], f: impl Fn(&I) -> O + Sync) {
+    out.par_chunks_mut(CHUNK)
+        .zip(items.par_chunks(CHUNK))
+        .for_each(|(os, is)| {
+            for (o, i) in os.iter_mut().zip(is) {
+                *o = f(i);
+            }
+        });
+}
+
+/// `f(packet, out)` for the packets of sixteen rays in `order` (indices into `eye`) and
+/// the matching sixteen entries of `out`, in parallel tasks of [`CHUNK`] rays.
+#[inline]
+fn par_packets(
+    out: &mut [Option<f32>],
+    order: &[usize],
+    eye: &[Ray<f32>],
+    f: impl Fn([&Ray<f32>; 16], &mut [Option<f32>]) + Sync,
+) {
+    out.par_chunks_mut(CHUNK)
+        .zip(order.par_chunks(CHUNK))
+        .for_each(|(hs, idx)| {
+            for (h, i) in hs.chunks_exact_mut(16).zip(idx.chunks_exact(16)) {
+                f(std::array::from_fn(|k| &eye[i[k]]), h);
+            }
+        });
+}
+
+/// Runs the sides of one row interleaved: Embree, Embree with user spheres when `user`
+/// is given, and the tracer, each writing its own results (Embree's `E`, the tracer's
+/// `T`); then the row's times, each Embree side's agreement with the tracer
+/// (`same(embree results, tracer results)`), and the tracer's results.
+fn race<E: Clone + Send, T: Clone + Send>(
+    runs: usize,
+    n: usize,
+    (e_init, t_init): (E, T),
+    embree: impl Fn(&mut [E]),
+    user: Option<impl Fn(&mut [E])>,
+    tracer: impl Fn(&mut [T]),
+    same: impl Fn(&[E], &[T]) -> f64,
+) -> ((Side, Option<Side>, Timing), Vec<T>) {
+    let mut e = vec![e_init.clone(); n];
+    let mut u = if user.is_some() {
+        vec![e_init; n]
+    } else {
+        Vec::new()
+    };
+    let mut t = vec![t_init; n];
+    let mut fe = || embree(&mut e);
+    let mut fu = || {
+        if let Some(user) = &user {
+            user(&mut u)
+        }
+    };
+    let mut ft = || tracer(&mut t);
+    let times = if user.is_some() {
+        interleaved(runs, &mut [&mut fe, &mut fu, &mut ft])
+    } else {
+        interleaved(runs, &mut [&mut fe, &mut ft])
+    };
+    let embree = Side {
+        time: times[0],
+        agree: same(&e, &t),
+    };
+    let user = user.is_some().then(|| Side {
+        time: times[1],
+        agree: same(&u, &t),
+    });
+    ((embree, user, times[times.len() - 1]), t)
+}
+
+/// The share of entries where both hit or both miss.
+fn same_hits<T>(a: &[Option<f32>], b: &[Option<T>]) -> f64 {
+    agreement(a.iter().map(Option::is_some), b.iter().map(Option::is_some))
+}
+
+/// The share of entries where both are blocked or both are not.
+fn same_blocked(a: &[bool], b: &[bool]) -> f64 {
+    agreement(a.iter().copied(), b.iter().copied())
+}
+
+/// All measurements of one scene at one size on the current rayon pool: Embree with
+/// built-in spheres (`embree`), with user spheres (`user`, if given), and the tracer.
 fn measure(
     name: &str,
     scene: &Scene<f32>,
     embree: &Embree,
+    user: Option<&Embree>,
     (w, h): (u32, u32),
     runs: usize,
 ) -> Vec<Row> {
@@ -372,49 +606,32 @@ fn measure(
         .flat_map(|y| (0..w).map(move |x| (x, y)))
         .map(|(x, y)| Ray::new(cam.position, cam.direction(x as f32 + 0.5, y as f32 + 0.5)))
         .collect();
-    let row = |kind, rays, (embree, tracer), agree| Row {
+    let row = |kind, rays, (embree, user, tracer)| Row {
         scene: name.to_string(),
         size: (w, h),
         threads,
         kind,
         rays,
         embree,
+        user,
         tracer,
-        agree,
     };
     let mut rows = Vec::new();
 
     // Eye rays, one at a time.
-    let mut e_hits = vec![None; eye.len()];
-    let mut t_hits = vec![None; eye.len()];
-    let times = interleaved(
+    let (sides, t_hits) = race(
         runs,
-        || {
-            e_hits
-                .par_chunks_mut(CHUNK)
-                .zip(eye.par_chunks(CHUNK))
-                .for_each(|(hs, rs)| {
-                    for (h, r) in hs.iter_mut().zip(rs) {
-                        *h = embree.intersect1(r);
-                    }
-                })
-        },
-        || {
-            t_hits
-                .par_chunks_mut(CHUNK)
-                .zip(eye.par_chunks(CHUNK))
-                .for_each(|(hs, rs)| {
-                    for (h, r) in hs.iter_mut().zip(rs) {
-                        *h = scene.intersect(r);
-                    }
-                })
-        },
+        eye.len(),
+        (None, None),
+        |out| par_map(out, &eye, |r| embree.intersect1(r)),
+        user.map(|u| {
+            let eye = &eye;
+            move |out: &mut [Option<f32>]| par_map(out, eye, |r| u.intersect1(r))
+        }),
+        |out| par_map(out, &eye, |r| scene.intersect(r)),
+        same_hits,
     );
-    let agree = agreement(
-        e_hits.iter().map(Option::is_some),
-        t_hits.iter().map(Option::is_some),
-    );
-    rows.push(row("eye", eye.len(), times, agree));
+    rows.push(row("eye", eye.len(), sides));
 
     // Shadow rays from the tracer's eye hits toward the first light.
     if let Some(light) = scene.lights.first().map(|l| l.position) {
@@ -433,67 +650,41 @@ fn measure(
                 shadow.push((Ray::new(above, (&to).scale(dist.recip()).eval()), dist));
             }
         }
-        let mut e_occ = vec![false; shadow.len()];
-        let mut t_occ = vec![false; shadow.len()];
-        let times = interleaved(
+        let (sides, _) = race(
             runs,
-            || {
-                e_occ
-                    .par_chunks_mut(CHUNK)
-                    .zip(shadow.par_chunks(CHUNK))
-                    .for_each(|(os, rs)| {
-                        for (o, (r, d)) in os.iter_mut().zip(rs) {
-                            *o = embree.occluded1(r, *d);
-                        }
-                    })
+            shadow.len(),
+            (false, false),
+            |out| par_map(out, &shadow, |(r, d)| embree.occluded1(r, *d)),
+            user.map(|u| {
+                let shadow = &shadow;
+                move |out: &mut [bool]| par_map(out, shadow, |(r, d)| u.occluded1(r, *d))
+            }),
+            |out| {
+                par_map(out, &shadow, |(r, d)| {
+                    scene.occluded(&Ray { t_max: *d, ..*r })
+                })
             },
-            || {
-                t_occ
-                    .par_chunks_mut(CHUNK)
-                    .zip(shadow.par_chunks(CHUNK))
-                    .for_each(|(os, rs)| {
-                        for (o, (r, d)) in os.iter_mut().zip(rs) {
-                            *o = scene.occluded(&Ray { t_max: *d, ..*r });
-                        }
-                    })
-            },
+            same_blocked,
         );
-        let agree = agreement(e_occ.iter().copied(), t_occ.iter().copied());
-        rows.push(row("shadow", shadow.len(), times, agree));
+        rows.push(row("shadow", shadow.len(), sides));
     }
 
     // Eye rays in packets of 4x4 pixels.
     let isa = Isa::detect();
     let order = tile_order(w, h);
-    let mut e16 = vec![None; eye.len()];
-    let mut t16 = vec![None; eye.len()];
-    let packet = |idx: &[usize]| -> [&Ray<f32>; 16] { std::array::from_fn(|k| &eye[idx[k]]) };
-    let times = interleaved(
+    let (sides, _) = race(
         runs,
-        || {
-            e16.par_chunks_mut(CHUNK)
-                .zip(order.par_chunks(CHUNK))
-                .for_each(|(hs, idx)| {
-                    for (h, i) in hs.chunks_exact_mut(16).zip(idx.chunks_exact(16)) {
-                        embree.intersect16(packet(i), h);
-                    }
-                })
-        },
-        || {
-            t16.par_chunks_mut(CHUNK)
-                .zip(order.par_chunks(CHUNK))
-                .for_each(|(hs, idx)| {
-                    for (h, i) in hs.chunks_exact_mut(16).zip(idx.chunks_exact(16)) {
-                        tracer_packet16(scene, isa, packet(i), h);
-                    }
-                })
-        },
+        eye.len(),
+        (None, None),
+        |out| par_packets(out, &order, &eye, |p, h| embree.intersect16(p, h)),
+        user.map(|u| {
+            let (order, eye) = (&order, &eye);
+            move |out: &mut [Option<f32>]| par_packets(out, order, eye, |p, h| u.intersect16(p, h))
+        }),
+        |out| par_packets(out, &order, &eye, |p, h| tracer_packet16(scene, isa, p, h)),
+        same_hits,
     );
-    let agree = agreement(
-        e16.iter().map(Option::is_some),
-        t16.iter().map(Option::is_some),
-    );
-    rows.push(row("eye16", eye.len(), times, agree));
+    rows.push(row("eye16", eye.len(), sides));
     rows
 }
 
@@ -502,10 +693,12 @@ struct Args {
     sizes: Vec<(u32, u32)>,
     threads: Vec<usize>,
     runs: usize,
+    /// Also measure Embree with the spheres as user geometry (scenes with spheres).
+    user_spheres: bool,
 }
 
-const USAGE: &str =
-    "usage: embree [--runs N] [--threads 1,2] [--sizes 512x512,1920x1080] SCENE.nff...";
+const USAGE: &str = "usage: embree [--runs N] [--threads 1,2] [--sizes 512x512,1920x1080] \
+                     [--no-user-spheres] SCENE.nff...";
 
 fn parse_args() -> Result<Args, String> {
     let mut a = Args {
@@ -513,6 +706,7 @@ fn parse_args() -> Result<Args, String> {
         sizes: vec![(512, 512), (1920, 1080)],
         threads: vec![1, 2],
         runs: 5,
+        user_spheres: true,
     };
     let mut it = std::env::args().skip(1);
     while let Some(arg) = it.next() {
@@ -536,6 +730,7 @@ fn parse_args() -> Result<Args, String> {
                     })
                     .collect::<Result<_, String>>()?
             }
+            "--no-user-spheres" => a.user_spheres = false,
             // cargo bench passes --bench to bench targets.
             "--bench" => {}
             s if s.starts_with('-') => return Err(format!("unknown option {s}\n{USAGE}")),
@@ -556,6 +751,190 @@ fn parse_args() -> Result<Args, String> {
 
 fn mrays(n: usize, s: f64) -> f64 {
     n as f64 / s / 1e6
+}
+
+/// Geometric mean (1 for none).
+fn geomean(v: &[f64]) -> f64 {
+    if v.is_empty() {
+        1.0
+    } else {
+        (v.iter().map(|x| x.ln()).sum::<f64>() / v.len() as f64).exp()
+    }
+}
+
+/// Tracer / Embree throughput, per wall second and per CPU second.
+fn ratios(s: &Side, tracer: &Timing) -> (f64, f64) {
+    (s.time.wall / tracer.wall, s.time.cpu / tracer.cpu)
+}
+
+const KINDS: [&str; 3] = ["eye", "shadow", "eye16"];
+
+/// The Embree query of a kind, for the table.
+fn embree_query(kind: &str) -> &'static str {
+    match kind {
+        "eye" => "eye (rtcIntersect1)",
+        "shadow" => "shadow (rtcOccluded1)",
+        _ => "eye16 (rtcIntersect16)",
+    }
+}
+
+/// Prints the tables: the rows, the user spheres' rows, the ratios per scene, the
+/// geometric means and the build times.
+fn print_report(rows: &[Row], threads: &[usize], builds: &[(String, f64, Option<f64>, f64)]) {
+    println!("Embree with its built-in spheres (RTC_GEOMETRY_TYPE_SPHERE_POINT):\n");
+    println!(
+        "| scene | size | threads | rays | kind | Embree Mrays/s | tracer Mrays/s \
+         | tracer / Embree | agreement |\n|---|---|---:|---:|---|---:|---:|---:|---:|"
+    );
+    for r in rows {
+        let (e, t) = (
+            mrays(r.rays, r.embree.time.wall),
+            mrays(r.rays, r.tracer.wall),
+        );
+        let (ec, tc) = (
+            mrays(r.rays, r.embree.time.cpu),
+            mrays(r.rays, r.tracer.cpu),
+        );
+        println!(
+            "| {} | {}x{} | {} | {} | {} | {e:.2} ({ec:.2}) | {t:.2} ({tc:.2}) | {:.2} ({:.2}) | {:.3}% |",
+            r.scene,
+            r.size.0,
+            r.size.1,
+            r.threads,
+            r.rays,
+            embree_query(r.kind),
+            t / e,
+            tc / ec,
+            100.0 * r.embree.agree
+        );
+    }
+    let with_user: Vec<&Row> = rows.iter().filter(|r| r.user.is_some()).collect();
+    if !with_user.is_empty() {
+        println!(
+            "\nScenes with spheres: Embree with its built-in spheres and with the spheres as \
+             user geometry (RTC_GEOMETRY_TYPE_USER, callbacks of benches/support/user_spheres.rs); \
+             Mrays/s per wall second, ratios per wall (CPU) second:\n"
+        );
+        println!(
+            "| scene | kind | size | threads | Embree Mrays/s | Embree user Mrays/s \
+             | tracer Mrays/s | tracer / Embree | tracer / Embree user | agreement \
+             | agreement user |\n|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|"
+        );
+        for r in &with_user {
+            let u = r.user.expect("filtered");
+            let (b, bc) = ratios(&r.embree, &r.tracer);
+            let (x, xc) = ratios(&u, &r.tracer);
+            println!(
+                "| {} | {} | {}x{} | {} | {:.2} | {:.2} | {:.2} | {b:.2} ({bc:.2}) \
+                 | {x:.2} ({xc:.2}) | {:.3}% | {:.3}% |",
+                r.scene,
+                r.kind,
+                r.size.0,
+                r.size.1,
+                r.threads,
+                mrays(r.rays, r.embree.time.wall),
+                mrays(r.rays, u.time.wall),
+                mrays(r.rays, r.tracer.wall),
+                100.0 * r.embree.agree,
+                100.0 * u.agree
+            );
+        }
+    }
+
+    // Per scene: geometric means over the sizes and thread counts.
+    println!(
+        "\nTracer / Embree per scene, geometric mean over the sizes and thread counts \
+         (wall seconds):\n"
+    );
+    println!(
+        "| scene | eye | shadow | eye16 | eye, user spheres | shadow, user spheres \
+         | eye16, user spheres |\n|---|---:|---:|---:|---:|---:|---:|"
+    );
+    let mut names: Vec<&str> = Vec::new();
+    for r in rows {
+        if !names.contains(&r.scene.as_str()) {
+            names.push(&r.scene);
+        }
+    }
+    for name in names {
+        let cell = |kind: &str, user: bool| {
+            let v: Vec<f64> = rows
+                .iter()
+                .filter(|r| r.scene == name && r.kind == kind)
+                .filter_map(|r| {
+                    let side = if user { r.user? } else { r.embree };
+                    Some(ratios(&side, &r.tracer).0)
+                })
+                .collect();
+            if v.is_empty() {
+                "–".to_string()
+            } else {
+                format!("{:.2}", geomean(&v))
+            }
+        };
+        let builtin: Vec<String> = KINDS.iter().map(|k| cell(k, false)).collect();
+        let user: Vec<String> = KINDS.iter().map(|k| cell(k, true)).collect();
+        println!(
+            "| {name} | {} | {} |",
+            builtin.join(" | "),
+            user.join(" | ")
+        );
+    }
+
+    // Geometric means of the ratio per kind and thread count.
+    println!("\nAll scenes, Embree with its built-in spheres:\n");
+    println!(
+        "| kind | threads | geomean tracer / Embree | min | max | geomean per CPU s |\n\
+         |---|---:|---:|---:|---:|---:|"
+    );
+    let summary = |sel: &dyn Fn(&Row) -> Option<Side>| {
+        for kind in KINDS {
+            for &t in threads {
+                let v: Vec<(f64, f64)> = rows
+                    .iter()
+                    .filter(|r| r.kind == kind && r.threads == t)
+                    .filter_map(|r| sel(r).map(|s| ratios(&s, &r.tracer)))
+                    .collect();
+                if v.is_empty() {
+                    continue;
+                }
+                let wall: Vec<f64> = v.iter().map(|x| x.0).collect();
+                let cpu: Vec<f64> = v.iter().map(|x| x.1).collect();
+                let (lo, hi) = wall
+                    .iter()
+                    .fold((f64::MAX, 0f64), |(a, b), &x| (a.min(x), b.max(x)));
+                println!(
+                    "| {kind} | {t} | {:.2} | {lo:.2} | {hi:.2} | {:.2} |",
+                    geomean(&wall),
+                    geomean(&cpu)
+                );
+            }
+        }
+    };
+    summary(&|r| Some(r.embree));
+    if !with_user.is_empty() {
+        println!("\nScenes with spheres only, Embree with its built-in spheres:\n");
+        println!(
+            "| kind | threads | geomean tracer / Embree | min | max | geomean per CPU s |\n\
+             |---|---:|---:|---:|---:|---:|"
+        );
+        summary(&|r| r.user.map(|_| r.embree));
+        println!("\nScenes with spheres only, Embree with user spheres:\n");
+        println!(
+            "| kind | threads | geomean tracer / Embree user | min | max | geomean per CPU s |\n\
+             |---|---:|---:|---:|---:|---:|"
+        );
+        summary(&|r| r.user);
+    }
+
+    println!(
+        "\n| scene | Embree build ms | Embree user spheres build ms | tracer build ms |\n\
+         |---|---:|---:|---:|"
+    );
+    for (n, e, u, t) in builds {
+        let u = u.map_or("–".to_string(), |u| format!("{:.1}", u * 1e3));
+        println!("| {n} | {:.1} | {u} | {:.1} |", e * 1e3, t * 1e3);
+    }
 }
 
 fn main() -> std::process::ExitCode {
@@ -582,11 +961,22 @@ fn main() -> std::process::ExitCode {
             .map(|n| n.trim_end_matches(".gz").trim_end_matches(".nff"))
             .unwrap_or("?")
             .to_string();
-        let (embree, embree_build) = Embree::build(&desc);
+        let (embree, embree_build) = Embree::build(&desc, Spheres::BuiltIn);
+        let has_spheres = desc
+            .shapes
+            .iter()
+            .any(|s| matches!(s.shape, Shape::Sphere { .. }));
+        let user = (args.user_spheres && has_spheres).then(|| Embree::build(&desc, Spheres::User));
         let s = Instant::now();
         let scene = Scene::<f32>::from_desc(&desc, &AccelOptions::default());
         let tracer_build = s.elapsed().as_secs_f64();
-        builds.push((name.clone(), embree_build, tracer_build));
+        builds.push((
+            name.clone(),
+            embree_build,
+            user.as_ref().map(|u| u.1),
+            tracer_build,
+        ));
+        let user = user.as_ref().map(|u| &u.0);
         for &t in &args.threads {
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(t)
@@ -594,66 +984,12 @@ fn main() -> std::process::ExitCode {
                 .expect("cannot start the thread pool");
             for &size in &args.sizes {
                 eprintln!("{name} {}x{} {t} thread(s)", size.0, size.1);
-                rows.extend(pool.install(|| measure(&name, &scene, &embree, size, args.runs)));
+                rows.extend(
+                    pool.install(|| measure(&name, &scene, &embree, user, size, args.runs)),
+                );
             }
         }
     }
-    println!(
-        "| scene | size | threads | rays | kind | Embree Mrays/s | tracer Mrays/s \
-         | tracer / Embree | agreement |\n|---|---|---:|---:|---|---:|---:|---:|---:|"
-    );
-    for r in &rows {
-        let (e, t) = (mrays(r.rays, r.embree.wall), mrays(r.rays, r.tracer.wall));
-        let (ec, tc) = (mrays(r.rays, r.embree.cpu), mrays(r.rays, r.tracer.cpu));
-        let ekind = match r.kind {
-            "eye" => "eye (rtcIntersect1)",
-            "shadow" => "shadow (rtcOccluded1)",
-            _ => "eye16 (rtcIntersect16)",
-        };
-        println!(
-            "| {} | {}x{} | {} | {} | {} | {:.2} ({:.2}) | {:.2} ({:.2}) | {:.2} ({:.2}) | {:.3}% |",
-            r.scene,
-            r.size.0,
-            r.size.1,
-            r.threads,
-            r.rays,
-            ekind,
-            e,
-            ec,
-            t,
-            tc,
-            t / e,
-            tc / ec,
-            100.0 * r.agree
-        );
-    }
-    // Geometric means of the ratio per kind and thread count.
-    println!(
-        "\n| kind | threads | geomean tracer / Embree | min | max | geomean per CPU s |\n\
-         |---|---:|---:|---:|---:|---:|"
-    );
-    for kind in ["eye", "shadow", "eye16"] {
-        for &t in &args.threads {
-            let sel = || rows.iter().filter(|r| r.kind == kind && r.threads == t);
-            let v: Vec<f64> = sel().map(|r| r.embree.wall / r.tracer.wall).collect();
-            let vc: Vec<f64> = sel().map(|r| r.embree.cpu / r.tracer.cpu).collect();
-            if v.is_empty() {
-                continue;
-            }
-            let gm = |v: &[f64]| (v.iter().map(|x| x.ln()).sum::<f64>() / v.len() as f64).exp();
-            let (lo, hi) = v
-                .iter()
-                .fold((f64::MAX, 0f64), |(a, b), &x| (a.min(x), b.max(x)));
-            println!(
-                "| {kind} | {t} | {:.2} | {lo:.2} | {hi:.2} | {:.2} |",
-                gm(&v),
-                gm(&vc)
-            );
-        }
-    }
-    println!("\n| scene | Embree build ms | tracer build ms |\n|---|---:|---:|");
-    for (n, e, t) in builds {
-        println!("| {n} | {:.1} | {:.1} |", e * 1e3, t * 1e3);
-    }
+    print_report(&rows, &args.threads, &builds);
     std::process::ExitCode::SUCCESS
 }

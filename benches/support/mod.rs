@@ -1,7 +1,8 @@
 //! Shared support code for the benchmarks: fixed-seed input data, the eager vector
 //! types every operator of which materialises a temporary, the hand-written loops
 //! (the ceiling), the benchmark configuration, and the reading of criterion's results
-//! for `RESULTS.md` and the plot, and the cycle counter and process CPU time as criterion measurements.
+//! for `RESULTS.md` and the plot, the cycle counter and process CPU time as criterion measurements,
+//! and the sphere test of the Embree bench's user geometry.
 
 pub mod config;
 pub mod cpu;
@@ -11,3 +12,4 @@ pub mod eager;
 pub mod hand;
 pub mod results;
 pub mod run;
+pub mod user_spheres;

@@ -3,12 +3,14 @@
 //!
 //! ```text
 //! cargo run -p benches --release --example report -- \
-//!     --out benches/results x86-64=DIR x86-64-v3=DIR x86-64-v4=DIR
+//!     --out benches/results x86-64=DIR x86-64-v3=DIR[,DIR...] x86-64-v4=DIR
 //! ```
-//! writes `tables.md` (per-kernel medians and ratios, long-vector bandwidth, the
-//! performance targets evaluated) and `speedup.svg` into the `--out` directory.
+//! writes `tables.md` (today's answer in one table, the performance targets evaluated,
+//! long-vector bandwidth, per-kernel medians and ratios) and `speedup.svg` into the
+//! `--out` directory. Several directories for one target are rounds of the same suite:
+//! each benchmark's median is then the median of the rounds' medians.
 
-use benches::results::{load, long_table, speedup_svg, tables, targets, Run};
+use benches::results::{answer, load, long_table, merge_rounds, speedup_svg, tables, targets, Run};
 use std::path::PathBuf;
 
 fn main() {
@@ -20,27 +22,38 @@ fn main() {
             out = PathBuf::from(args.next().expect("--out needs a directory"));
             continue;
         }
-        let Some((target, dir)) = a.split_once('=') else {
-            eprintln!("usage: report [--out DIR] TARGET=CRITERION_DIR...");
+        let Some((target, dirs)) = a.split_once('=') else {
+            eprintln!("usage: report [--out DIR] TARGET=CRITERION_DIR[,DIR...]...");
             std::process::exit(2);
         };
-        let data = load(std::path::Path::new(dir)).unwrap_or_else(|e| {
-            eprintln!("{e}");
-            std::process::exit(1);
-        });
-        eprintln!("{target}: {} measurements from {dir}", data.len());
+        let rounds: Vec<_> = dirs
+            .split(',')
+            .map(|dir| {
+                load(std::path::Path::new(dir)).unwrap_or_else(|e| {
+                    eprintln!("{e}");
+                    std::process::exit(1);
+                })
+            })
+            .collect();
+        let data = merge_rounds(&rounds);
+        eprintln!(
+            "{target}: {} benchmarks from {} round(s) in {dirs}",
+            data.len(),
+            rounds.len()
+        );
         runs.push(Run {
             target: target.to_string(),
             data,
         });
     }
     if runs.is_empty() {
-        eprintln!("usage: report [--out DIR] TARGET=CRITERION_DIR...");
+        eprintln!("usage: report [--out DIR] TARGET=CRITERION_DIR[,DIR...]...");
         std::process::exit(2);
     }
     std::fs::create_dir_all(&out).expect("create the output directory");
     let md = format!(
-        "### Performance targets\n\n{}\n### Long vectors and bandwidth\n\n{}\n### All medians (ratio to vecexpr in parentheses)\n{}",
+        "### Today's answer\n\n{}\n### Performance targets\n\n{}\n### Long vectors and bandwidth\n\n{}\n### All medians (ratio to vecexpr in parentheses)\n{}",
+        answer(&runs),
         targets(&runs),
         long_table(&runs),
         tables(&runs)

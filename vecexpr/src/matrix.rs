@@ -683,38 +683,8 @@ mat_rhs!([E, T, O,] MatScale<E, T, O>);
 
 macro_rules! mat_ops {
     ([$($g:tt)*] $ty:ty) => {
-        impl<$($g)* Rhs__> Add<Rhs__> for $ty
-        where
-            $ty: MatLeaf,
-            <$ty as MatLeaf>::Expr: MatExpr,
-            Rhs__: MatOperand<
-                <<$ty as MatLeaf>::Expr as MatExpr>::Scalar,
-                <<$ty as MatLeaf>::Expr as MatExpr>::Rows,
-                <<$ty as MatLeaf>::Expr as MatExpr>::Cols,
-            >,
-        {
-            type Output = MatBinary<<$ty as MatLeaf>::Expr, Rhs__::Expr, AddOp>;
-            #[inline(always)]
-            fn add(self, rhs: Rhs__) -> Self::Output {
-                MatBinary { lhs: self.into_leaf(), rhs: rhs.into_mat_expr(), op: PhantomData }
-            }
-        }
-        impl<$($g)* Rhs__> Sub<Rhs__> for $ty
-        where
-            $ty: MatLeaf,
-            <$ty as MatLeaf>::Expr: MatExpr,
-            Rhs__: MatOperand<
-                <<$ty as MatLeaf>::Expr as MatExpr>::Scalar,
-                <<$ty as MatLeaf>::Expr as MatExpr>::Rows,
-                <<$ty as MatLeaf>::Expr as MatExpr>::Cols,
-            >,
-        {
-            type Output = MatBinary<<$ty as MatLeaf>::Expr, Rhs__::Expr, SubOp>;
-            #[inline(always)]
-            fn sub(self, rhs: Rhs__) -> Self::Output {
-                MatBinary { lhs: self.into_leaf(), rhs: rhs.into_mat_expr(), op: PhantomData }
-            }
-        }
+        mat_ops!(@elementwise [$($g)*] $ty, Add, add, AddOp);
+        mat_ops!(@elementwise [$($g)*] $ty, Sub, sub, SubOp);
         impl<$($g)* Rhs__> Mul<Rhs__> for $ty
         where
             $ty: MatLeaf,
@@ -754,6 +724,25 @@ macro_rules! mat_ops {
         }
         mat_ops!(@left [$($g)*] $ty, f32);
         mat_ops!(@left [$($g)*] $ty, f64);
+    };
+    // `matrix ± operand`: the element-wise sum or difference, lazily.
+    (@elementwise [$($g:tt)*] $ty:ty, $trait:ident, $method:ident, $op:ty) => {
+        impl<$($g)* Rhs__> $trait<Rhs__> for $ty
+        where
+            $ty: MatLeaf,
+            <$ty as MatLeaf>::Expr: MatExpr,
+            Rhs__: MatOperand<
+                <<$ty as MatLeaf>::Expr as MatExpr>::Scalar,
+                <<$ty as MatLeaf>::Expr as MatExpr>::Rows,
+                <<$ty as MatLeaf>::Expr as MatExpr>::Cols,
+            >,
+        {
+            type Output = MatBinary<<$ty as MatLeaf>::Expr, Rhs__::Expr, $op>;
+            #[inline(always)]
+            fn $method(self, rhs: Rhs__) -> Self::Output {
+                MatBinary { lhs: self.into_leaf(), rhs: rhs.into_mat_expr(), op: PhantomData }
+            }
+        }
     };
     (@left [$($g:tt)*] $ty:ty, $t:ty) => {
         /// A plain float on the left scales every element, like on the right.
