@@ -5,6 +5,7 @@
 # counts do not depend on the machine's load, unlike times.
 # Usage: tracer/scripts/instructions.sh "OLD_BIN [ARGS]" "NEW_BIN [ARGS]"
 #   e.g. tracer/scripts/instructions.sh "target/perf/tracer --binary-bvh" target/perf/tracer
+# SCENES="gears-s4 tetra-s6" limits the run to those scenes.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 S=$root/../shared/scenes/spd
@@ -12,7 +13,7 @@ out=$(mktemp -d)
 ir() { valgrind --tool=callgrind --callgrind-out-file=/dev/null "$@" 2>&1 | awk '/Collected/{print $4}'; }
 echo "| scene | A Ir | B Ir | B / A |"
 echo "|---|---:|---:|---:|"
-for s in balls-s4 gears-s4 mount-s6 rings-s7 teapot-s12 tetra-s6 tree-s11; do
+for s in ${SCENES:-balls-s4 gears-s4 mount-s6 rings-s7 teapot-s12 tetra-s6 tree-s11}; do
   row=()
   for v in "$1" "$2"; do
     read -r -a cmd <<<"$v"

@@ -232,9 +232,9 @@ const STACK4_SIZE: usize = super::wide::STACK_SIZE;
 pub trait PacketVisitor<S: SimdF32> {
     /// Tests a leaf against the rays of `lanes` (bits), those that reach it.
     fn leaf(&mut self, leaf: Leaf<'_>, lanes: u32, t_max: S) -> Option<S>;
-    /// Traces the rays of `lanes` alone through the subtree of wide node `node`
-    /// ([`Bvh::traverse4_from`]): few rays of the packet are left.
-    fn handover(&mut self, node: u32, lanes: u32, t_max: S) -> Option<S>;
+    /// Traces the rays of `lanes` alone through the subtree of wide node `node` of
+    /// `bvh` ([`Bvh::traverse4_from`]): few rays of the packet are left.
+    fn handover(&mut self, bvh: &Bvh, node: u32, lanes: u32, t_max: S) -> Option<S>;
 }
 
 impl<S: SimdF32> PacketRay<S> {
@@ -316,7 +316,7 @@ impl Bvh {
             loop {
                 if count == 0 {
                     if mask.count_ones() <= switch {
-                        match visit.handover(child, mask, t_max) {
+                        match visit.handover(self, child, mask, t_max) {
                             Some(t) => t_max = t,
                             None => return t_max,
                         }

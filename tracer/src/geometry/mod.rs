@@ -28,15 +28,49 @@
 //! references, and are tested against a ray four at a time.
 //!
 //! # Queries
-//! The closest-hit and any-hit queries of one ray (`Geometry::closest`,
-//! `Geometry::any`, `Geometry::any_hint`) and of a packet ([`packet_query`]) each take
-//! the same steps: planes first, then the four-wide or binary BVH or, without one,
-//! every primitive. One generic driver over a query trait was tried for all of them:
-//! the same images, and 3 % fewer instructions for closest hits of single rays, but
-//! the any-hit instance compiled to a slower traversal loop (gears-s4 at depth 1:
-//! 80.4 M instructions per frame against 77.9 M, the shadow rays' share 7 % more), up to
-//! 3.5 % more per frame on the classic scenes (`tracer/scripts/instructions.sh` with
-//! `--packets off`), so each query keeps its own few lines of that order.
+//! Every query, the closest hit ([`Geometry::intersect`]) or any hit
+//! ([`Geometry::occluded`], [`Geometry::occluded_hint_kinds`] after its cached
+//! occluder) of one ray or of a packet ([`packet_query`]), runs through one driver,
+//! `Geometry::query` (`geometry/query.rs`): the planes first, then the four-wide or the
+//! binary BVH or, without a BVH, every primitive; an any-hit query stops at the step
+//! that answers it. A query supplies its side of those steps through the trait `Query`
+//! (its loop over given primitives, which serves the planes and brute force, and its
+//! walk of either tree). One ray's closest and any hit are one type, `RayQuery`, whose
+//! const parameter `ANY` picks the leaf test and is the walks' `ANY_HIT`; the packet
+//! queries `ClosestPacket` and `AnyPacket` bring their lane kernels and packet walks,
+//! and hand their last rays over to `RayQuery`'s own walk.
+//!
+//! All of it is `#[inline(always)]`, the leaf tests are the hand-written drivers' (any
+//! hit: `Some(t_max)` on a hit, the occluder in the query's local record), and the
+//! single-ray walks take them as a [`crate::bvh::traverse::LeafVisitor`], so each
+//! instance compiles to the code of a query written out alone. Instructions per frame
+//! against the hand-written drivers (A, the commit before the driver; B, the driver),
+//! `tracer/scripts/instructions.sh "A --packets off" "B --packets off"`, the same with
+//! `--packets auto`, and both again with `SCENES="gears-s4 tetra-s6"` and `--depth 1`
+//! (callgrind, 128×128, one thread; both
+//! built with `cargo build --profile perf -p tracer-cli`):
+//!
+//! | scene | `--packets off` A | B | B / A | `--packets auto` A | B | B / A |
+//! |---|---:|---:|---:|---:|---:|---:|
+//! | balls-s4 | 107.28 M | 107.19 M | 0.9991 | 101.99 M | 101.58 M | 0.9960 |
+//! | gears-s4 | 129.81 M | 130.25 M | 1.0034 | 131.06 M | 130.66 M | 0.9969 |
+//! | mount-s6 | 112.58 M | 112.85 M | 1.0024 | 106.49 M | 106.89 M | 1.0038 |
+//! | rings-s7 | 279.78 M | 276.20 M | 0.9872 | 271.10 M | 268.55 M | 0.9906 |
+//! | teapot-s12 | 66.79 M | 66.91 M | 1.0018 | 64.14 M | 64.14 M | 0.9999 |
+//! | tetra-s6 | 16.55 M | 16.05 M | 0.9695 | 17.31 M | 17.31 M | 0.9997 |
+//! | tree-s11 | 87.48 M | 86.74 M | 0.9915 | 85.38 M | 84.81 M | 0.9933 |
+//! | gears-s4, `--depth 1` | 77.96 M | 78.87 M | 1.0117 | 80.46 M | 80.61 M | 1.0020 |
+//! | tetra-s6, `--depth 1` | 16.57 M | 16.06 M | 0.9693 | 17.31 M | 17.30 M | 0.9996 |
+//!
+//! Every row is within 0.5 % but one: gears-s4 at depth 1 with single rays, where the
+//! shadow rays' any-hit queries are most of the work, runs 1.2 % more (callgrind puts the
+//! difference in the shading function's inlined shadow queries: their ray set-up and box
+//! tests; not resolved). Passing the leaf test to the walks as a closure, as the
+//! hand-written drivers did, cost more: the shading's two shadow tests (with and without
+//! a cache entry) are one query instance, so they shared one leaf closure, which the
+//! compiler left out of line; gears-s4 at depth 1 ran 80.21 M against 77.96 M
+//! instructions (1.029), teapot-s12 1.019, tree-s11 1.016 with single rays and 1.023 with
+//! packets. The walks now take a `LeafVisitor` whose method is always inlined.
 //!
 //! # BVH
 //! Binned SAH (Wald 2007) over conservative `f32` boxes, built in parallel and
@@ -62,6 +96,7 @@ pub mod offset;
 pub mod packet_query;
 pub mod plane;
 pub mod polygon;
+mod query;
 pub(crate) mod ray_data;
 pub mod sphere;
 pub(crate) mod storage;
@@ -82,6 +117,7 @@ use crate::bvh::{Bounds3, BuildConfig, Bvh};
 use crate::float::Float;
 use crate::ray::{Hit, Ray};
 use crate::scene::desc::ShapeDesc;
+use query::RayQuery;
 use ray_data::RayData;
 use std::time::Instant;
 use storage::{make_ref, Prims, CONE, INDEX_MASK, NO_SHADING, PLANE, SPHERE, TAG_SHIFT, TRIANGLE};
@@ -214,6 +250,19 @@ struct Best<T: Real> {
     t: T,
     b1: T,
     b2: T,
+}
+
+impl<T: Real> Best<T> {
+    /// No candidate yet, hits looked for up to `t`.
+    #[inline(always)]
+    fn none(t: T) -> Self {
+        Self {
+            r: NO_HIT,
+            t,
+            b1: T::ZERO,
+            b2: T::ZERO,
+        }
+    }
 }
 
 /// No candidate yet (never a valid reference: planes are capped below this index).
@@ -423,6 +472,8 @@ impl<T: Float> Geometry<T> {
             }
     }
 
+    /// The cached occluder `*hint`, then the any-hit [`RayQuery`]; `*hint` becomes the
+    /// occluder found.
     #[inline(always)]
     fn any_hint<const WATERTIGHT: bool, const KINDS: u32>(
         &self,
@@ -432,44 +483,16 @@ impl<T: Float> Geometry<T> {
         let Some(rd) = RayData::new(ray) else {
             return false;
         };
-        let limit = rd.t_limit;
-        let hits = |r: u32| self.test::<WATERTIGHT, KINDS>(r, &rd, limit).is_some();
         let cached = *hint;
-        if cached != NO_HINT && self.names_prim::<KINDS>(cached) && hits(cached) {
+        if cached != NO_HINT
+            && self.names_prim::<KINDS>(cached)
+            && self
+                .test::<WATERTIGHT, KINDS>(cached, &rd, rd.t_limit)
+                .is_some()
+        {
             return true;
         }
-        let planes = if kind_in::<KINDS>(PLANE) {
-            self.prims.planes.len()
-        } else {
-            0
-        };
-        if let Some(i) = (0..planes).find(|&i| hits(make_ref(PLANE, i))) {
-            *hint = make_ref(PLANE, i);
-            return true;
-        }
-        let mut found = NO_HINT;
-        let hit = match &self.bvh {
-            Some(bvh) => {
-                let mut leaf = |l: Leaf<'_>, _| {
-                    found = self.leaf_any::<WATERTIGHT, KINDS>(l, &rd, limit)?;
-                    Some(limit)
-                };
-                if self.wide {
-                    bvh.traverse4::<T, true>(&rd.traversal, limit, leaf)
-                } else {
-                    bvh.traverse::<T, true>(&rd.traversal, limit, |refs: &[u32], t| {
-                        leaf(Leaf::Refs(refs), t)
-                    })
-                }
-            }
-            None => match self.all_refs().find(|&r| hits(r)) {
-                Some(r) => {
-                    found = r;
-                    true
-                }
-                None => false,
-            },
-        };
+        let (hit, found) = self.any_query::<WATERTIGHT, KINDS>(&rd);
         // An unblocked ray clears the entry: lit regions then pay no hint test.
         *hint = found;
         hit
@@ -661,83 +684,39 @@ impl<T: Float> Geometry<T> {
             .chain((0..p.cones.len()).map(|i| make_ref(CONE, i)))
     }
 
+    /// The closest-hit [`RayQuery`] of one ray.
     #[inline(always)]
     fn closest<const WATERTIGHT: bool, const KINDS: u32>(&self, ray: &Ray<T>) -> Option<Hit<T>> {
         let rd = RayData::new(ray)?;
-        let mut best = Best {
-            r: NO_HIT,
-            t: rd.t_limit,
-            b1: T::ZERO,
-            b2: T::ZERO,
-        };
-        let planes = if kind_in::<KINDS>(PLANE) {
-            self.prims.planes.len()
-        } else {
-            0
-        };
-        for i in 0..planes {
-            let r = make_ref(PLANE, i);
-            if let Some(h) = self.test::<WATERTIGHT, KINDS>(r, &rd, best.t) {
-                self.offer(&mut best, r, h);
-            }
-        }
-        match &self.bvh {
-            Some(bvh) => {
-                let t0 = best.t;
-                let mut leaf = |l: Leaf<'_>, _| {
-                    self.leaf_closest::<WATERTIGHT, KINDS>(l, &rd, &mut best)
-                        .then_some(best.t)
-                };
-                if self.wide {
-                    bvh.traverse4::<T, false>(&rd.traversal, t0, leaf);
-                } else {
-                    bvh.traverse::<T, false>(&rd.traversal, t0, |refs: &[u32], t| {
-                        leaf(Leaf::Refs(refs), t)
-                    });
-                }
-            }
-            None => {
-                for r in self.all_refs() {
-                    if let Some(h) = self.test::<WATERTIGHT, KINDS>(r, &rd, best.t) {
-                        self.offer(&mut best, r, h);
-                    }
-                }
-            }
-        }
+        let mut best = Best::none(rd.t_limit);
+        self.query(&mut RayQuery::<T, false, WATERTIGHT, KINDS> {
+            g: self,
+            rd: &rd,
+            best: &mut best,
+        });
         (best.r != NO_HIT).then(|| self.make_hit::<KINDS>(&best, ray))
     }
 
+    /// Is the ray blocked?
     #[inline(always)]
     fn any<const WATERTIGHT: bool, const KINDS: u32>(&self, ray: &Ray<T>) -> bool {
         let Some(rd) = RayData::new(ray) else {
             return false;
         };
-        let limit = rd.t_limit;
-        let hits = |r: u32| self.test::<WATERTIGHT, KINDS>(r, &rd, limit).is_some();
-        let planes = if kind_in::<KINDS>(PLANE) {
-            self.prims.planes.len()
-        } else {
-            0
-        };
-        if (0..planes).any(|i| hits(make_ref(PLANE, i))) {
-            return true;
-        }
-        match &self.bvh {
-            Some(bvh) => {
-                let leaf = |l: Leaf<'_>, _| {
-                    self.leaf_any::<WATERTIGHT, KINDS>(l, &rd, limit)
-                        .map(|_| limit)
-                };
-                if self.wide {
-                    bvh.traverse4::<T, true>(&rd.traversal, limit, leaf)
-                } else {
-                    bvh.traverse::<T, true>(&rd.traversal, limit, |refs: &[u32], t| {
-                        leaf(Leaf::Refs(refs), t)
-                    })
-                }
-            }
-            None => self.all_refs().any(hits),
-        }
+        self.any_query::<WATERTIGHT, KINDS>(&rd).0
+    }
+
+    /// The any-hit [`RayQuery`] of one ray: whether it is blocked, and the occluder
+    /// found (or [`NO_HIT`]).
+    #[inline(always)]
+    fn any_query<const WATERTIGHT: bool, const KINDS: u32>(&self, rd: &RayData<T>) -> (bool, u32) {
+        let mut best = Best::none(rd.t_limit);
+        let hit = self.query(&mut RayQuery::<T, true, WATERTIGHT, KINDS> {
+            g: self,
+            rd,
+            best: &mut best,
+        });
+        (hit, best.r)
     }
 
     /// Fills in the hit record for the winning candidate of `ray` (only its origin and

@@ -1,20 +1,20 @@
-//! Closest hits of a packet of rays, one SIMD lane per ray, bit-identical to
-//! [`Geometry::intersect`] ray by ray.
+//! Closest hits and any hits of a packet of rays, one SIMD lane per ray, bit-identical
+//! to [`Geometry::intersect`] and [`Geometry::occluded`] ray by ray.
 //!
-//! The packet walks the BVH together ([`crate::bvh::packet_traverse`]: the four-wide tree, handing
-//! its rays over to their single-ray traversal of a subtree where at most two of them
-//! (four of sixteen) reach it, or the binary tree with `--binary-bvh`); in a leaf, spheres
-//! and triangles are tested against every ray of the packet at once with the formulas
-//! of the single-ray kernels ([`super::sphere`], [`super::triangle`]) written over the
-//! lane type, operation for operation and in the same order (no fused multiply-add
-//! where the scalar code has none), so each lane computes exactly the single ray's
-//! value. What the packet kernels do not cover runs the single-ray kernel for each ray
-//! concerned:
+//! The packet walks the BVH together ([`crate::bvh::packet_traverse`]: the four-wide
+//! tree, handing its rays over to their single-ray traversal of a subtree where at most
+//! two of them (four of sixteen) reach it, or the binary tree with `--binary-bvh`;
+//! without a BVH it meets every primitive); in a leaf, spheres and triangles are tested
+//! against every ray of the packet at once with the formulas of the single-ray kernels
+//! ([`super::sphere`], [`super::triangle`]) written over the lane type, operation for
+//! operation and in the same order (no fused multiply-add where the scalar code has
+//! none), so each lane computes exactly the single ray's value. What the packet kernels
+//! do not cover runs the single-ray kernel for each ray concerned:
 //! - cones and planes;
 //! - triangles when the rays' watertight shear axes differ (the axis of largest
 //!   direction component), and the rays whose edge functions are exactly zero, which
 //!   the single-ray test recomputes in `f64`;
-//! - the Möller–Trumbore test and the brute-force mode, which trace each ray alone.
+//! - the Möller–Trumbore test, which traces each ray alone.
 //!
 //! The rays are set up over the lanes (the values the single-ray kernels precompute per
 //! ray, computed with the same operations in SIMD registers); a ray's own scalar record
@@ -30,14 +30,25 @@
 //!
 //! The any-hit query of a packet (shadow rays) uses the same kernels: a ray leaves the
 //! packet at its first hit, and the walk ends when every ray is blocked.
+//!
+//! Both packet queries run through the geometry's one query driver
+//! (`geometry/query.rs`: planes, then the four-wide or binary tree, or without a BVH
+//! every primitive) as `ClosestPacket` and `AnyPacket`: each supplies its primitive
+//! loop (the lane kernels over all rays not yet done, which serves the planes and
+//! brute force alike), its two walks ([`crate::bvh::Bvh::traverse4_packet`],
+//! [`crate::bvh::Bvh::traverse_packet`]) and, as their visitor, its leaf tests and its
+//! hand-over, which is the single-ray query's own walk (`RayQuery::wide_from`) from the
+//! node handed over.
 
+use super::query::{Query, RayQuery};
 use super::ray_data::{PacketData, PacketShear, RayData, Shear, MAX_LANES};
 use super::sphere::sphere_packet;
-use super::storage::{make_ref, INDEX_MASK, PLANE, SPHERE, TAG_SHIFT, TRIANGLE};
+use super::storage::{make_ref, INDEX_MASK, SPHERE, TAG_SHIFT, TRIANGLE};
 use super::triangle::{triangle_packet, TRI4_LANES};
 use super::{kinds, Best, Geometry, TriangleTest, NO_HIT};
 use crate::bvh::packet_traverse::{PacketRay, PacketVisitor};
 use crate::bvh::wide::Leaf;
+use crate::bvh::Bvh;
 use crate::ray::{Hit, Ray};
 use core::cell::{Cell, UnsafeCell};
 use core::mem::MaybeUninit;
@@ -251,13 +262,11 @@ impl<'a, S: SimdF32> Setup<'a, S> {
 }
 
 impl Geometry<f32> {
-    /// Can the packet kernels serve this geometry (a BVH and the watertight test)?
+    /// Can the packet kernels serve this geometry? They have the watertight triangle
+    /// test only.
     #[inline(always)]
-    fn packet_bvh(&self) -> Option<&crate::bvh::Bvh> {
-        match (&self.bvh, self.triangle_test) {
-            (Some(bvh), TriangleTest::Watertight) => Some(bvh),
-            _ => None,
-        }
+    fn packet_kernels(&self) -> bool {
+        self.triangle_test == TriangleTest::Watertight
     }
 
     /// The closest-hit test of primitive `r` against the lanes `m` of the packet:
@@ -479,49 +488,26 @@ impl Geometry<f32> {
     ) {
         let n = S::LANES;
         assert!(n <= MAX_LANES && rays.len() >= n && out.len() >= n);
-        let Some(bvh) = self.packet_bvh() else {
+        if !self.packet_kernels() {
             for (o, r) in out[..n].iter_mut().zip(&rays[..n]) {
                 *o = r.as_ref().and_then(|r| self.intersect(r));
             }
             return;
-        };
+        }
         let rd = LaneData::new();
         let Some(su) = Setup::<S>::new(rays, &rd) else {
             out[..n].fill(None);
             return;
         };
-        let mut best = [Best {
-            r: NO_HIT,
-            t: 0.0,
-            b1: 0.0,
-            b2: 0.0,
-        }; MAX_LANES];
+        let mut best = [Best::none(0.0); MAX_LANES];
         each_lane(su.valid, |l| best[l].t = su.t_limits[l]);
-        // Planes first, as the single-ray query does.
-        let mut t0 = su.t_limit;
-        if !self.prims.planes.is_empty() {
-            each_lane(su.valid, |l| {
-                let (r, b) = (su.lane(l), &mut best[l]);
-                for i in 0..self.prims.planes.len() {
-                    let p = make_ref(PLANE, i);
-                    if let Some(h) = self.test::<true, { kinds::ALL }>(p, r, b.t) {
-                        self.offer(b, p, h);
-                    }
-                }
-            });
-            t0 = best_t::<S>(&best);
-        }
-        let mut v = Closest {
+        self.query(&mut ClosestPacket {
             geometry: self,
-            bvh,
             su: &su,
             best: &mut best,
-        };
-        if self.wide {
-            bvh.traverse4_packet(&su.ray, su.valid, t0, switch, &mut v);
-        } else {
-            bvh.traverse_packet(&su.ray, S::Mask::from_bitmask(su.valid), t0, &mut v);
-        }
+            t_max: su.t_limit,
+            switch,
+        });
         for (l, o) in out[..n].iter_mut().enumerate() {
             *o = match &rays[l] {
                 Some(r) if su.valid & (1 << l) != 0 && best[l].r != NO_HIT => {
@@ -555,47 +541,25 @@ impl Geometry<f32> {
     ) {
         let n = S::LANES;
         assert!(n <= MAX_LANES && rays.len() >= n && out.len() >= n);
-        let Some(bvh) = self.packet_bvh() else {
+        if !self.packet_kernels() {
             for (o, r) in out[..n].iter_mut().zip(&rays[..n]) {
                 *o = r.as_ref().is_some_and(|r| self.occluded(r));
             }
             return;
-        };
+        }
         out[..n].fill(false);
         let rd = LaneData::new();
         let Some(su) = Setup::<S>::new(rays, &rd) else {
             return;
         };
-        // Blocked lanes.
-        let mut done = 0u32;
-        if !self.prims.planes.is_empty() {
-            each_lane(su.valid, |l| {
-                let rd = su.lane(l);
-                let blocked = (0..self.prims.planes.len()).any(|i| {
-                    self.test::<true, { kinds::ALL }>(make_ref(PLANE, i), rd, rd.t_limit)
-                        .is_some()
-                });
-                done |= u32::from(blocked) << l;
-            });
-        }
-        let active = su.valid & !done;
-        if active != 0 {
-            let mut v = Any {
-                geometry: self,
-                bvh,
-                su: &su,
-                active,
-                done,
-            };
-            if self.wide {
-                bvh.traverse4_packet(&su.ray, active, su.t_limit, switch, &mut v);
-            } else {
-                let active = S::Mask::from_bitmask(active);
-                bvh.traverse_packet(&su.ray, active, su.t_limit, &mut v);
-            }
-            done = v.done;
-        }
-        each_lane(done, |l| out[l] = true);
+        let mut q = AnyPacket {
+            geometry: self,
+            su: &su,
+            done: 0,
+            switch,
+        };
+        self.query(&mut q);
+        each_lane(q.done, |l| out[l] = true);
     }
 }
 
@@ -705,15 +669,48 @@ fn dispatch<K: Kernel>(_isa: Isa, _kernel: K) -> K::Output {
     unreachable!("no SIMD instruction set off x86-64, so no packets");
 }
 
-/// The closest-hit query's side of [`crate::bvh::Bvh::traverse4_packet`].
-struct Closest<'a, S: SimdF32> {
+/// The closest hits of a packet: every hit is offered to its lane's record in `best`,
+/// as [`RayQuery`] does for one ray.
+struct ClosestPacket<'a, S: SimdF32> {
     geometry: &'a Geometry<f32>,
-    bvh: &'a crate::bvh::Bvh,
     su: &'a Setup<'a, S>,
     best: &'a mut [Best<f32>; MAX_LANES],
+    /// The lanes' closest distances so far, once the planes are tested.
+    t_max: S,
+    /// The hand-over threshold of [`crate::bvh::Bvh::traverse4_packet`].
+    switch: u32,
 }
 
-impl<S: SimdF32> PacketVisitor<S> for Closest<'_, S> {
+impl<S: SimdF32> Query for ClosestPacket<'_, S> {
+    const KINDS: u32 = kinds::ALL;
+
+    #[inline(always)]
+    fn refs(&mut self, refs: impl Iterator<Item = u32>) -> bool {
+        let (g, su) = (self.geometry, self.su);
+        let mut t_max = self.t_max;
+        for r in refs {
+            t_max = g.packet_closest(r, su.valid, su, self.best, t_max);
+        }
+        self.t_max = t_max;
+        false
+    }
+
+    #[inline(always)]
+    fn wide(&mut self, bvh: &Bvh) -> bool {
+        let (su, t_max, switch) = (self.su, self.t_max, self.switch);
+        bvh.traverse4_packet(&su.ray, su.valid, t_max, switch, self);
+        false
+    }
+
+    #[inline(always)]
+    fn binary(&mut self, bvh: &Bvh) -> bool {
+        let (su, t_max) = (self.su, self.t_max);
+        bvh.traverse_packet(&su.ray, S::Mask::from_bitmask(su.valid), t_max, self);
+        false
+    }
+}
+
+impl<S: SimdF32> PacketVisitor<S> for ClosestPacket<'_, S> {
     #[inline(always)]
     fn leaf(&mut self, leaf: Leaf<'_>, lanes: u32, t_max: S) -> Option<S> {
         Some(
@@ -723,32 +720,32 @@ impl<S: SimdF32> PacketVisitor<S> for Closest<'_, S> {
     }
 
     #[inline(always)]
-    fn handover(&mut self, node: u32, lanes: u32, _t_max: S) -> Option<S> {
-        let g = self.geometry;
+    fn handover(&mut self, bvh: &Bvh, node: u32, lanes: u32, _t_max: S) -> Option<S> {
+        let (g, su) = (self.geometry, self.su);
         each_lane(lanes, |l| {
-            let (rd, b) = (self.su.lane(l), &mut self.best[l]);
-            self.bvh
-                .traverse4_from::<f32, false>(node, &rd.traversal, b.t, |f, _| {
-                    g.leaf_closest::<true, { kinds::ALL }>(f, rd, b)
-                        .then_some(b.t)
-                });
+            RayQuery::<f32, false, true, { kinds::ALL }> {
+                g,
+                rd: su.lane(l),
+                best: &mut self.best[l],
+            }
+            .wide_from(bvh, node);
         });
         Some(best_t::<S>(self.best))
     }
 }
 
-/// The any-hit query's side of [`crate::bvh::Bvh::traverse4_packet`].
-struct Any<'a, S: SimdF32> {
+/// Whether each ray of a packet is blocked: a lane leaves the walk at its first hit, and
+/// the walk ends when every lane is blocked.
+struct AnyPacket<'a, S: SimdF32> {
     geometry: &'a Geometry<f32>,
-    bvh: &'a crate::bvh::Bvh,
     su: &'a Setup<'a, S>,
-    /// The lanes traced.
-    active: u32,
     /// The lanes blocked so far.
     done: u32,
+    /// The hand-over threshold of [`crate::bvh::Bvh::traverse4_packet`].
+    switch: u32,
 }
 
-impl<S: SimdF32> Any<'_, S> {
+impl<S: SimdF32> AnyPacket<'_, S> {
     /// Blocked lanes leave (their `t_max` becomes $-\infty$); `None` once every ray is
     /// blocked.
     #[inline(always)]
@@ -756,7 +753,7 @@ impl<S: SimdF32> Any<'_, S> {
         let gone = S::splat(f32::NEG_INFINITY);
         // Not `bool::then` with a closure, which could be left out of line without
         // the caller's instruction set (see `Setup::new`).
-        if self.active & !self.done != 0 {
+        if self.su.valid & !self.done != 0 {
             Some(S::select(S::Mask::from_bitmask(self.done), gone, t_max))
         } else {
             None
@@ -764,7 +761,42 @@ impl<S: SimdF32> Any<'_, S> {
     }
 }
 
-impl<S: SimdF32> PacketVisitor<S> for Any<'_, S> {
+impl<S: SimdF32> Query for AnyPacket<'_, S> {
+    const KINDS: u32 = kinds::ALL;
+
+    #[inline(always)]
+    fn refs(&mut self, refs: impl Iterator<Item = u32>) -> bool {
+        let (g, su) = (self.geometry, self.su);
+        let mut m = su.valid & !self.done;
+        for r in refs {
+            if m == 0 {
+                break;
+            }
+            let d = g.packet_any(r, m, su);
+            self.done |= d;
+            m &= !d;
+        }
+        m == 0
+    }
+
+    #[inline(always)]
+    fn wide(&mut self, bvh: &Bvh) -> bool {
+        let (su, switch) = (self.su, self.switch);
+        let active = su.valid & !self.done;
+        bvh.traverse4_packet(&su.ray, active, su.t_limit, switch, self);
+        false
+    }
+
+    #[inline(always)]
+    fn binary(&mut self, bvh: &Bvh) -> bool {
+        let su = self.su;
+        let active = S::Mask::from_bitmask(su.valid & !self.done);
+        bvh.traverse_packet(&su.ray, active, su.t_limit, self);
+        false
+    }
+}
+
+impl<S: SimdF32> PacketVisitor<S> for AnyPacket<'_, S> {
     #[inline(always)]
     fn leaf(&mut self, leaf: Leaf<'_>, lanes: u32, t_max: S) -> Option<S> {
         self.done |= self
@@ -774,18 +806,18 @@ impl<S: SimdF32> PacketVisitor<S> for Any<'_, S> {
     }
 
     #[inline(always)]
-    fn handover(&mut self, node: u32, lanes: u32, t_max: S) -> Option<S> {
-        let g = self.geometry;
+    fn handover(&mut self, bvh: &Bvh, node: u32, lanes: u32, t_max: S) -> Option<S> {
+        let (g, su) = (self.geometry, self.su);
         let mut done = self.done;
         each_lane(lanes & !done, |l| {
-            let rd = self.su.lane(l);
-            let limit = rd.t_limit;
-            let hit = self
-                .bvh
-                .traverse4_from::<f32, true>(node, &rd.traversal, limit, |f, _| {
-                    g.leaf_any::<true, { kinds::ALL }>(f, rd, limit)
-                        .map(|_| limit)
-                });
+            let rd = su.lane(l);
+            let mut best = Best::none(rd.t_limit);
+            let hit = RayQuery::<f32, true, true, { kinds::ALL }> {
+                g,
+                rd,
+                best: &mut best,
+            }
+            .wide_from(bvh, node);
             done |= u32::from(hit) << l;
         });
         self.done = done;
@@ -810,6 +842,7 @@ pub(crate) const fn switch(lanes: usize) -> u32 {
 #[cfg(all(test, target_arch = "x86_64"))]
 mod tests {
     use super::*;
+    use crate::geometry::AccelOptions;
     use vecexpr::simd::{Isa, Kernel};
     use vecexpr::Expr;
 
@@ -834,11 +867,21 @@ mod tests {
     }
 
     /// With every hand-over threshold, from never (0) to at once (all lanes), each lane
-    /// of eye and shadow packets is the single ray's answer, bit for bit.
+    /// of eye and shadow packets is the single ray's answer, bit for bit; and so over
+    /// the binary tree and without a BVH (every step of [`Geometry::query`]).
     #[test]
     fn every_hand_over_threshold_gives_the_single_ray_answers() {
         let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
-        let mut blocked_rays = 0;
+        let wide = AccelOptions::default();
+        let binary = AccelOptions {
+            wide: false,
+            ..wide
+        };
+        let brute = AccelOptions {
+            use_bvh: false,
+            ..wide
+        };
+        let mut blocked_rays = [0usize; 3];
         for name in [
             "showcase.nff",
             "balls-s1.nff",
@@ -846,67 +889,78 @@ mod tests {
             "tree-s1.nff",
         ] {
             let desc = crate::scene::load(&dir.join(name)).unwrap();
-            let g = &Geometry::<f32>::build(&desc.shapes, &Default::default());
-            let (w, h) = (23usize, 17usize);
-            let cam = crate::camera::Camera::<f32>::new(&desc.camera, w as u32, h as u32);
-            let light = desc.lights.first().map(|l| {
-                let p = l.position.map(|x| x as f32);
-                vec3(p[0], p[1], p[2])
-            });
-            for isa in Isa::available() {
-                let n = isa.lanes();
-                for switch in [0, 1, 2, 4, n as u32] {
-                    // Eye rays in runs of `n` pixels, row-major, so some packets span
-                    // two rows; then rays from their hits toward the first light.
-                    for first in (0..w * h).step_by(n) {
-                        let mut eye = [None; MAX_LANES];
-                        for (l, r) in eye.iter_mut().enumerate().take(n) {
-                            let k = first + l;
-                            if k < w * h {
-                                let (x, y) = ((k % w) as f32 + 0.5, (k / w) as f32 + 0.5);
-                                *r = Some(Ray::new(cam.position, cam.direction(x, y)));
+            for (k, opts) in [wide, binary, brute].iter().enumerate() {
+                let g = &Geometry::<f32>::build(&desc.shapes, opts);
+                let (w, h) = (23usize, 17usize);
+                let cam = crate::camera::Camera::<f32>::new(&desc.camera, w as u32, h as u32);
+                let light = desc.lights.first().map(|l| {
+                    let p = l.position.map(|x| x as f32);
+                    vec3(p[0], p[1], p[2])
+                });
+                for isa in Isa::available() {
+                    let n = isa.lanes();
+                    // The threshold matters to the four-wide walk only.
+                    let switches = if k == 0 {
+                        vec![0, 1, 2, 4, n as u32]
+                    } else {
+                        vec![super::switch(n)]
+                    };
+                    for switch in switches {
+                        // Eye rays in runs of `n` pixels, row-major, so some packets span
+                        // two rows; then rays from their hits toward the first light.
+                        for first in (0..w * h).step_by(n) {
+                            let mut eye = [None; MAX_LANES];
+                            for (l, r) in eye.iter_mut().enumerate().take(n) {
+                                let k = first + l;
+                                if k < w * h {
+                                    let (x, y) = ((k % w) as f32 + 0.5, (k / w) as f32 + 0.5);
+                                    *r = Some(Ray::new(cam.position, cam.direction(x, y)));
+                                }
                             }
-                        }
-                        let (hits, _) = isa.dispatch(Queries {
-                            geometry: g,
-                            rays: &eye,
-                            switch,
-                        });
-                        let mut shadow = [None; MAX_LANES];
-                        for l in 0..n {
-                            let single = eye[l].as_ref().and_then(|r| g.intersect(r));
-                            assert_eq!(
-                                hits[l].map(|h| (h.t.to_bits(), h.prim_id)),
-                                single.map(|h| (h.t.to_bits(), h.prim_id)),
-                                "{name} {isa} switch {switch} ray {}",
-                                first + l
-                            );
-                            if let (Some(hit), Some(p)) = (single, light) {
-                                let o = (hit.point + hit.geometric_normal.scale(1e-3)).eval();
-                                let d = (p - o).eval();
-                                shadow[l] = Some(Ray {
-                                    t_max: 1.0,
-                                    ..Ray::new(o, d)
-                                });
+                            let (hits, _) = isa.dispatch(Queries {
+                                geometry: g,
+                                rays: &eye,
+                                switch,
+                            });
+                            let mut shadow = [None; MAX_LANES];
+                            for l in 0..n {
+                                let single = eye[l].as_ref().and_then(|r| g.intersect(r));
+                                assert_eq!(
+                                    hits[l].map(|h| (h.t.to_bits(), h.prim_id)),
+                                    single.map(|h| (h.t.to_bits(), h.prim_id)),
+                                    "{name} {opts:?} {isa} switch {switch} ray {}",
+                                    first + l
+                                );
+                                if let (Some(hit), Some(p)) = (single, light) {
+                                    let o = (hit.point + hit.geometric_normal.scale(1e-3)).eval();
+                                    let d = (p - o).eval();
+                                    shadow[l] = Some(Ray {
+                                        t_max: 1.0,
+                                        ..Ray::new(o, d)
+                                    });
+                                }
                             }
-                        }
-                        let (_, blocked) = isa.dispatch(Queries {
-                            geometry: g,
-                            rays: &shadow,
-                            switch,
-                        });
-                        for l in 0..n {
-                            let single = shadow[l].as_ref().is_some_and(|r| g.occluded(r));
-                            assert_eq!(blocked[l], single, "{name} {isa} switch {switch}");
-                            blocked_rays += usize::from(single);
+                            let (_, blocked) = isa.dispatch(Queries {
+                                geometry: g,
+                                rays: &shadow,
+                                switch,
+                            });
+                            for l in 0..n {
+                                let single = shadow[l].as_ref().is_some_and(|r| g.occluded(r));
+                                assert_eq!(
+                                    blocked[l], single,
+                                    "{name} {opts:?} {isa} switch {switch}"
+                                );
+                                blocked_rays[k] += usize::from(single);
+                            }
                         }
                     }
                 }
             }
         }
         assert!(
-            blocked_rays > 100,
-            "too few blocked shadow rays: {blocked_rays}"
+            blocked_rays.iter().all(|&b| b > 100),
+            "too few blocked shadow rays: {blocked_rays:?}"
         );
     }
 }

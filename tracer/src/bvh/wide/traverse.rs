@@ -2,8 +2,8 @@
 //! for any hits.
 
 use super::box_test::Box4Ray;
-use super::{Leaf, Node4, STACK_SIZE, WIDTH};
-use crate::bvh::traverse::TraversalRay;
+use super::{Node4, STACK_SIZE, WIDTH};
+use crate::bvh::traverse::{LeafVisitor, TraversalRay};
 use crate::bvh::Bvh;
 use core::mem::MaybeUninit;
 use vecexpr::Real;
@@ -24,16 +24,17 @@ impl Bvh {
     /// visited in slot order instead: the walk stops at the first hit anyway, and
     /// `t_max` never shrinks, so neither sorting nor the distance check on pop pays.
     ///
-    /// `leaf(leaf, t_max)` is called with [`Leaf::Refs`] for a leaf of references and
-    /// with [`Leaf::Grouped`] for one rewritten by `Bvh::regroup_wide_leaves`.
+    /// `visit.leaf(leaf, t_max)` is called with [`super::Leaf::Refs`] for a leaf of
+    /// references and with [`super::Leaf::Grouped`] for one rewritten by
+    /// `Bvh::regroup_wide_leaves`.
     #[inline(always)]
     pub fn traverse4<T: Real, const ANY_HIT: bool>(
         &self,
         ray: &TraversalRay<T>,
         t_max: T,
-        leaf: impl FnMut(Leaf<'_>, T) -> Option<T>,
+        visit: &mut impl LeafVisitor<T>,
     ) -> bool {
-        self.traverse4_from::<T, ANY_HIT>(0, ray, t_max, leaf)
+        self.traverse4_from::<T, ANY_HIT>(0, ray, t_max, visit)
     }
 
     /// [`Bvh::traverse4`] over the subtree of wide node `start` only (0 is the root):
@@ -45,7 +46,7 @@ impl Bvh {
         start: u32,
         ray: &TraversalRay<T>,
         mut t_max: T,
-        mut leaf: impl FnMut(Leaf<'_>, T) -> Option<T>,
+        visit: &mut impl LeafVisitor<T>,
     ) -> bool {
         let nodes: &[Node4] = &self.wide;
         if nodes.is_empty() {
@@ -131,7 +132,7 @@ impl Bvh {
                     }
                     Some((first, count)) => {
                         let l = self.leaf(first, count);
-                        if let Some(t) = leaf(l, t_max) {
+                        if let Some(t) = visit.leaf(l, t_max) {
                             found = true;
                             if ANY_HIT {
                                 return true;
