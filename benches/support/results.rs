@@ -239,17 +239,21 @@ pub fn format_ns(ns: f64) -> String {
     format!("{v:.digits$} {unit}")
 }
 
+/// The kernels (criterion groups) measured in any run, in name order; the bandwidth
+/// reference is not one.
+fn kernels(runs: &[Run]) -> BTreeSet<&str> {
+    runs.iter()
+        .flat_map(|r| r.data.iter().map(|m| m.group.as_str()))
+        .filter(|g| *g != "bandwidth")
+        .collect()
+}
+
 /// One Markdown table per kernel: a row per size and target, a column per
 /// implementation; each cell is the median and, in parentheses, its time relative to
 /// vecexpr (above 1 means slower than vecexpr).
 pub fn tables(runs: &[Run]) -> String {
     let mut s = String::new();
-    let groups: BTreeSet<&str> = runs
-        .iter()
-        .flat_map(|r| r.data.iter().map(|m| m.group.as_str()))
-        .filter(|g| *g != "bandwidth")
-        .collect();
-    for group in groups {
+    for group in kernels(runs) {
         let impls: Vec<&str> = IMPLEMENTATIONS
             .iter()
             .copied()
@@ -536,12 +540,7 @@ pub fn answer(runs: &[Run]) -> String {
         "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---|---|"
     )
     .unwrap();
-    let groups: BTreeSet<&str> = runs
-        .iter()
-        .flat_map(|r| r.data.iter().map(|m| m.group.as_str()))
-        .filter(|g| *g != "bandwidth")
-        .collect();
-    for group in groups {
+    for group in kernels(runs) {
         for size in SIZES {
             for r in runs {
                 let row: Vec<&Measurement> = r
