@@ -145,6 +145,11 @@ impl Sandbox {
                 return Outcome::Refused(e.to_string());
             }
         };
+        // What an earlier run left is not this input's doing: under AFL++ that is a run
+        // the fuzzer killed at its time limit, whose temporary files no code could remove
+        // (SIGKILL), found by the next input's check below in the first campaign that
+        // reported it (`regressions/cli/merge-after-a-killed-run`).
+        self.clean();
         let outcome = self.check(cli);
         let left = self.clean();
         // Nothing half-written: a command that failed, or stopped before its first ray,

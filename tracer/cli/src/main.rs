@@ -3,12 +3,14 @@
 //! REPORT_DIR]`.
 //!
 //! Exit status 0 on success, 2 on bad input or a failed write, with one line
-//! `FILE:LINE: message` (or `FILE: message`) on stderr and no output file left behind.
+//! `FILE:LINE: message` (or `FILE: message`) on stderr and no output file left behind;
+//! SIGINT, SIGTERM or SIGHUP during `render` or `merge` ends it by that signal, leaving
+//! no output file and no temporary one.
 
 use clap::Parser;
 use std::process::ExitCode;
 use tracer_cli::cli::{Cli, Command};
-use tracer_cli::{accuracy, bench, merge, render, viewer};
+use tracer_cli::{accuracy, bench, merge, output, render, viewer};
 
 /// Parses the command line; help and version go to standard output as clap prints them,
 /// and any other clap error becomes one line on standard error (its first paragraph,
@@ -40,6 +42,14 @@ fn main() -> ExitCode {
         Ok(cli) => cli,
         Err(code) => return code,
     };
+    // The commands that stage outputs: a signal removes what they have not yet put in
+    // place.
+    if matches!(cli.command, Command::Render(_) | Command::Merge(_)) {
+        if let Err(e) = output::remove_on_signal() {
+            eprintln!("cannot install the signal handlers: {e}");
+            return ExitCode::from(2);
+        }
+    }
     let done = match cli.command {
         Command::Render(args) => render::run(&args),
         Command::Merge(args) => merge::run(&args),

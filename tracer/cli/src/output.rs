@@ -7,11 +7,50 @@
 //! files and [`Staged::commit`] renames them into place; if any write or rename fails,
 //! every temporary file and every output already renamed is removed, so a failed run
 //! leaves no output at all. Dropping a [`Staged`] without committing removes the
-//! temporary files.
+//! temporary files, and so does a signal that ends the process first, once
+//! [`remove_on_signal`] is installed.
 
 use std::fs::{self, File, OpenOptions};
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
+use std::sync::{Mutex, MutexGuard, PoisonError};
+
+/// The temporary files of every [`Staged`] neither committed nor dropped yet: what
+/// [`remove_on_signal`] removes. A commit holds the lock over all its renames, so a
+/// signal finds either every output of a run in place or none.
+static TEMPORARY: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+fn temporary() -> MutexGuard<'static, Vec<PathBuf>> {
+    TEMPORARY.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
+/// Makes SIGINT (Ctrl-C), SIGTERM (`kill`, or a batch system's time limit and
+/// cancellation) and SIGHUP (a closed terminal) remove the temporary files of outputs not
+/// yet in place, then end the process by that signal as it would have without this (so
+/// that a shell or a scheduler sees which signal ended it). Without it, an interrupted
+/// render would leave its hidden `.NAME.PID.tmp` files behind.
+///
+/// # Errors
+/// The signal handlers cannot be installed.
+pub fn remove_on_signal() -> io::Result<()> {
+    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
+    let mut signals = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP])?;
+    std::thread::Builder::new()
+        .name("signals".into())
+        .spawn(move || {
+            if let Some(signal) = signals.forever().next() {
+                // Held until the process ends: no output is staged or committed after.
+                let files = temporary();
+                for f in files.iter() {
+                    let _ = fs::remove_file(f);
+                }
+                // Returns only if the default action could not be taken.
+                let _ = signal_hook::low_level::emulate_default_handler(signal);
+                std::process::exit(128 + signal);
+            }
+        })?;
+    Ok(())
+}
 
 /// The image formats of `-o`, by extension.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -101,6 +140,8 @@ impl Staged {
                 ));
             }
             let tmp = temp_path(path);
+            // Listed before it exists: a signal in between finds nothing to remove.
+            temporary().push(tmp.clone());
             let file = OpenOptions::new()
                 .write(true)
                 .create_new(true)
@@ -152,6 +193,8 @@ impl Staged {
     /// # Errors
     /// `PATH: cannot write output: error`.
     pub fn commit(mut self) -> Result<(), String> {
+        // Held over every rename (see `TEMPORARY`); `Drop` takes the files off the list.
+        let _listed = temporary();
         for i in 0..self.pending.len() {
             let p = &self.pending[i];
             if let Err(e) = fs::rename(&p.tmp, &p.path) {
@@ -169,11 +212,13 @@ impl Staged {
 
 impl Drop for Staged {
     fn drop(&mut self) {
+        let mut listed = temporary();
         if !self.committed {
             for p in &self.pending {
                 let _ = fs::remove_file(&p.tmp);
             }
         }
+        listed.retain(|t| self.pending.iter().all(|p| &p.tmp != t));
     }
 }
 

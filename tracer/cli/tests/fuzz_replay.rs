@@ -50,6 +50,24 @@ fn cli_fuzz_corpus_replays_without_panic_or_hang() {
     }
 }
 
+/// A run the fuzzer kills at its time limit (SIGKILL) leaves its temporary files; the
+/// next input is not blamed for them. The first campaign of the `cli` target reported
+/// `regressions/cli/merge-after-a-killed-run` as a crash ("files left behind") that did
+/// not reproduce alone: a `tracer merge` that fails on its third tile, run after a killed
+/// one.
+#[test]
+fn a_killed_run_s_files_are_not_blamed_on_the_next_input() {
+    let tracer = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let dir = std::env::temp_dir().join(format!("tracer-cli-fuzz-killed-{}", std::process::id()));
+    let sandbox = Sandbox::new(&dir, &tracer).unwrap();
+    let input = std::fs::read(tracer.join("fuzz/regressions/cli/merge-after-a-killed-run")).unwrap();
+    for stray in [".meiqf.json.1.tmp", "sub/.out.png.1.tmp"] {
+        std::fs::write(sandbox.dir().join(stray), b"killed").unwrap();
+        assert!(matches!(sandbox.run(&input), Outcome::Checked(Err(_))));
+        assert!(!sandbox.dir().join(stray).exists());
+    }
+}
+
 /// The sandbox gives the commands what they need: seeds of the corpus pass every check,
 /// or fail on the check they were written for, and a `tracer merge` writes.
 #[test]

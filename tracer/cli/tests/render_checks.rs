@@ -108,6 +108,48 @@ fn stats_in_a_missing_directory_leaves_no_image() {
     let _ = std::fs::remove_dir_all(&d);
 }
 
+/// A render ended by a signal (Ctrl-C, `kill`, a batch system's time limit) after its
+/// outputs were staged leaves neither output nor temporary file, and its exit status
+/// names the signal.
+#[test]
+#[cfg(unix)]
+fn a_signal_during_a_render_leaves_no_file() {
+    use std::os::unix::process::ExitStatusExt;
+    use std::time::{Duration, Instant};
+    for (signal, name) in [(15, "TERM"), (2, "INT"), (1, "HUP")] {
+        let dir = tmpdir(&format!("signal-{name}"));
+        // Minutes of work on one thread: the signal arrives long before the end.
+        let mut child = tracer()
+            .arg("render")
+            .arg(scene("showcase.nff"))
+            .arg("-o")
+            .arg(dir.join("out.png"))
+            .arg("--stats")
+            .arg(dir.join("s.json"))
+            .args(["--width", "4096", "--height", "4096", "--aa", "4", "--threads", "1"])
+            .spawn()
+            .unwrap();
+        // Both outputs are staged (as hidden temporary files) before the first ray.
+        let start = Instant::now();
+        while files(&dir).len() < 2 {
+            assert!(start.elapsed() < Duration::from_secs(120), "{name}: nothing staged");
+            assert!(child.try_wait().unwrap().is_none(), "{name}: ended early");
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        assert!(files(&dir).iter().all(|f| f.starts_with('.') && f.ends_with(".tmp")));
+        let sent = Command::new("kill")
+            .arg(format!("-{name}"))
+            .arg(child.id().to_string())
+            .status()
+            .unwrap();
+        assert!(sent.success());
+        let status = child.wait().unwrap();
+        assert_eq!(status.signal(), Some(signal), "{name}: {status:?}");
+        assert_eq!(files(&dir), Vec::<String>::new(), "{name}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
+
 #[test]
 fn unknown_formats_and_directories_are_refused() {
     let d = tmpdir("formats");
