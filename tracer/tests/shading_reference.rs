@@ -538,10 +538,8 @@ fn matte(color: P3, kd: f64) -> MaterialDesc {
 // ----- the scenes ------------------------------------------------------------------------
 
 /// Three spheres with Phong exponents 3, 12 and 60 over a matte floor, one coloured point
-/// light, local shading only (depth 1): ambient, Lambert with shadows, highlights off
-/// their peak.
-#[test]
-fn ambient_lambert_and_phong_match_the_reference() {
+/// light.
+fn three_spheres() -> TestScene {
     let mut s = TestScene::new(
         [4.0, 7.0, 6.0],
         [1.0, 0.9, 0.7],
@@ -574,6 +572,14 @@ fn ambient_lambert_and_phong_match_the_reference() {
         let m = s.material(shiny(color, shine));
         s.sphere([x, 1.0, 0.0], 0.9, m);
     }
+    s
+}
+
+/// The three spheres under local shading only (depth 1): ambient, Lambert with shadows,
+/// highlights off their peak.
+#[test]
+fn ambient_lambert_and_phong_match_the_reference() {
+    let s = three_spheres();
     let t = check_scene("phong", &s, 0, (96, 64), 1);
     // Every sphere shows an off-peak highlight; count them per exponent by rendering the
     // spheres alone.
@@ -593,6 +599,27 @@ fn ambient_lambert_and_phong_match_the_reference() {
             .count();
         assert!(off_peak >= 10, "exponent {}: {off_peak}", [3, 12, 60][k]);
     }
+}
+
+/// The three spheres under a ceiling just above the light. A shadow ray ends at the
+/// light, so the ceiling, which every shadow ray of the scene would reach if it went on,
+/// shadows nothing: the spheres keep their lit sides and highlights.
+#[test]
+fn a_surface_beyond_the_light_casts_no_shadow() {
+    let mut s = three_spheres();
+    let ceiling = s.material(matte([0.5, 0.5, 0.5], 0.5));
+    // Wound clockwise seen from above: it faces down, toward the light.
+    s.poly(
+        vec![
+            [-30.0, 8.0, -30.0],
+            [30.0, 8.0, -30.0],
+            [30.0, 8.0, 30.0],
+            [-30.0, 8.0, 30.0],
+        ],
+        ceiling,
+    );
+    let t = check_scene("beyond the light", &s, 0, (96, 64), 1);
+    assert!(t.off_peak >= 60, "{t:?}");
 }
 
 /// A mirror (Ks = 0.8, a faint highlight, some ambient) facing a checkerboard, with a
