@@ -161,3 +161,80 @@ impl Bvh {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::bvh::traverse::{LeafVisitor, TraversalRay};
+    use crate::bvh::wide::Leaf;
+    use crate::bvh::{Bounds3, BuildConfig, BuildPrim, Bvh};
+    use vecexpr::vec3;
+
+    /// Records the primitives of each leaf in the order a walk reaches them, and reports
+    /// no hit, so that `t_max` stays infinite and every leaf on the ray is reached.
+    struct Order(Vec<u32>);
+
+    impl LeafVisitor<f32> for Order {
+        fn leaf(&mut self, leaf: Leaf<'_>, _t_max: f32) -> Option<f32> {
+            let Leaf::Refs(refs) = leaf else {
+                panic!("a tree without regrouped leaves");
+            };
+            self.0.extend_from_slice(refs);
+            None
+        }
+    }
+
+    /// The closest-hit walks of both trees reach the leaves on a ray nearest first
+    /// (which is what lets them stop early), whatever the ray's direction: a grid of
+    /// 8 x 8 unit boxes, one per leaf, 2 apart, crossed along every row and column both
+    /// ways. Only the boxes of the crossed row or column are reached, so at the wide
+    /// nodes above them the ray hits two children as well as three or four.
+    #[test]
+    fn closest_hit_walks_reach_leaves_nearest_first() {
+        const N: u32 = 8;
+        let id = |i: u32, j: u32| i * N + j;
+        let mut prims: Vec<BuildPrim> = (0..N)
+            .flat_map(|i| (0..N).map(move |j| (i, j)))
+            .map(|(i, j)| {
+                let (x, y) = (2.0 * i as f32, 2.0 * j as f32);
+                let b = Bounds3 {
+                    lo: [x, y, 0.0],
+                    hi: [x + 1.0, y + 1.0, 1.0],
+                };
+                BuildPrim::new(b, id(i, j))
+            })
+            .collect();
+        let cfg = BuildConfig {
+            max_leaf_size: 1,
+            parallel: false,
+            traversal_cost: crate::bvh::build::TRAVERSAL_COST,
+        };
+        let bvh = Bvh::build(&mut prims, &cfg);
+        let far = 2.0 * N as f32 + 4.0;
+        for k in 0..N {
+            let c = 2.0 * k as f32 + 0.5;
+            // (origin, direction, the ids in order of distance)
+            let along_x: Vec<u32> = (0..N).map(|i| id(i, k)).collect();
+            let along_y: Vec<u32> = (0..N).map(|j| id(k, j)).collect();
+            let rev = |v: &[u32]| v.iter().rev().copied().collect::<Vec<u32>>();
+            let cases = [
+                (
+                    vec3(-3.0f32, c, 0.5),
+                    vec3(1.0f32, 0.0, 0.0),
+                    along_x.clone(),
+                ),
+                (vec3(far, c, 0.5), vec3(-1.0, 0.0, 0.0), rev(&along_x)),
+                (vec3(c, -3.0, 0.5), vec3(0.0, 1.0, 0.0), along_y.clone()),
+                (vec3(c, far, 0.5), vec3(0.0, -1.0, 0.0), rev(&along_y)),
+            ];
+            for (o, d, want) in cases {
+                let ray = TraversalRay::new(&o, &d, 0.0);
+                let mut wide = Order(Vec::new());
+                assert!(!bvh.traverse4::<f32, false>(&ray, f32::INFINITY, &mut wide));
+                assert_eq!(wide.0, want, "four-wide tree, ray from {o:?} along {d:?}");
+                let mut binary = Order(Vec::new());
+                assert!(!bvh.traverse::<f32, false>(&ray, f32::INFINITY, &mut binary));
+                assert_eq!(binary.0, want, "binary tree, ray from {o:?} along {d:?}");
+            }
+        }
+    }
+}
