@@ -313,6 +313,71 @@ fn viewer_passes_are_identical_with_packets_on_or_off() {
     }
 }
 
+/// Packets answer the shadow rays of the first 64 lights for a whole packet at once (one
+/// bit per light); the shading traces those of further lights one by one. A scene with
+/// 70 lights, some of them hidden from parts of the floor by the spheres, renders the
+/// same with packets on or off.
+#[test]
+fn more_lights_than_a_packet_answers_give_the_same_image() {
+    use tracer::scene::desc::MaterialDesc;
+    let isas = isas("many lights");
+    let mut b = tracer::SceneBuilder::default();
+    let matte = b.add_material(MaterialDesc {
+        color: [0.8, 0.7, 0.6],
+        kd: 0.8,
+        ks: 0.0,
+        shine: 1.0,
+        t: 0.0,
+        ior: 1.0,
+    });
+    let shiny = b.add_material(MaterialDesc {
+        color: [0.3, 0.5, 0.9],
+        kd: 0.5,
+        ks: 0.3,
+        shine: 20.0,
+        t: 0.0,
+        ior: 1.0,
+    });
+    b.add_polygon(
+        vec![
+            [-5.0, 0.0, -5.0],
+            [-5.0, 0.0, 5.0],
+            [5.0, 0.0, 5.0],
+            [5.0, 0.0, -5.0],
+        ],
+        matte,
+    );
+    for (x, z) in [(-1.2, 0.0), (1.2, 0.3), (0.0, -1.5)] {
+        b.add_sphere([x, 0.8, z], 0.8, shiny);
+    }
+    // Lights on a low ring, so that the spheres shadow different parts of the floor
+    // from each.
+    for k in 0..70 {
+        let a = k as f64 * std::f64::consts::TAU / 70.0;
+        b.add_light([4.0 * a.cos(), 1.0 + 0.02 * k as f64, 4.0 * a.sin()], Some([0.02; 3]));
+    }
+    b.background([0.1, 0.1, 0.2]);
+    b.look_at([0.0, 4.0, 7.0], [0.0, 0.5, 0.0], [0.0, 1.0, 0.0], 45.0);
+    let s: Scene<f32> = b.build();
+    assert_eq!(s.lights.len(), 70);
+    let off = Settings {
+        width: Some(40),
+        height: Some(30),
+        packets: Packets::Off,
+        ..Settings::default()
+    };
+    let (reference, rc) = render_with_stats(&s, &off);
+    for &isa in &isas {
+        let on = Settings {
+            packets: Packets::On(isa),
+            ..off.clone()
+        };
+        let (img, st) = render_with_stats(&s, &on);
+        assert!(same_image(&img, &reference), "{isa}: image differs");
+        assert_eq!(st.rays, rc.rays, "{isa}: ray counts differ");
+    }
+}
+
 #[test]
 fn fallbacks_give_the_same_image() {
     let isas = isas("fallback images");
