@@ -246,6 +246,45 @@ fn dark_lights_and_matte_surfaces_need_no_shadows_or_highlights() {
     assert!(adaptive.refraction > 0);
 }
 
+/// Adaptive termination traces a secondary ray only while the product of the weights
+/// along its path reaches the threshold: between two facing mirrors of K_s = 0.5, a
+/// threshold of 0.1 lets every eye ray bounce three times (path weights 0.5, 0.25 and
+/// 0.125; the fourth, 0.0625, is dropped), where depth 10 alone allows nine.
+#[test]
+fn adaptive_termination_follows_the_product_of_the_weights() {
+    let mut b = SceneBuilder::default();
+    let mirror = b.add_material(MaterialDesc {
+        color: [1.0; 3],
+        kd: 0.0,
+        ks: 0.5,
+        shine: 1.0,
+        t: 0.0,
+        ior: 1.0,
+    });
+    for z in [-1.0, 1.0] {
+        let v = [
+            [-100.0, -100.0, z],
+            [100.0, -100.0, z],
+            [100.0, 100.0, z],
+            [-100.0, 100.0, z],
+        ];
+        b.add_polygon(v.to_vec(), mirror);
+    }
+    b.look_at([0.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0], 30.0);
+    let scene: Scene<f32> = b.build();
+    let pixels = 8 * 8;
+    for (threshold, bounces) in [(0.1, 3), (0.3, 1), (0.0, 9)] {
+        let s = Settings {
+            depth: 10,
+            threshold,
+            ..small(8, 8)
+        };
+        let rays = render_with_stats(&scene, &s).1.rays;
+        assert_eq!(rays.eye, pixels, "threshold {threshold}");
+        assert_eq!(rays.reflection, bounces * pixels, "threshold {threshold}");
+    }
+}
+
 #[test]
 #[should_panic(expected = "cannot render")]
 fn a_renderer_without_a_needed_effect_is_refused() {
