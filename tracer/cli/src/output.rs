@@ -30,8 +30,11 @@ fn temporary() -> MutexGuard<'static, Vec<PathBuf>> {
 /// that a shell or a scheduler sees which signal ended it). Without it, an interrupted
 /// render would leave its hidden `.NAME.PID.tmp` files behind.
 ///
+/// Elsewhere than on Unix it does nothing.
+///
 /// # Errors
 /// The signal handlers cannot be installed.
+#[cfg(unix)]
 pub fn remove_on_signal() -> io::Result<()> {
     use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
     let mut signals = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP])?;
@@ -49,6 +52,15 @@ pub fn remove_on_signal() -> io::Result<()> {
                 std::process::exit(128 + signal);
             }
         })?;
+    Ok(())
+}
+
+/// See the Unix version.
+///
+/// # Errors
+/// Never.
+#[cfg(not(unix))]
+pub fn remove_on_signal() -> io::Result<()> {
     Ok(())
 }
 
