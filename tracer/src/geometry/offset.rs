@@ -25,13 +25,15 @@ const FLOAT_SCALE_F32: f64 = 1.0 / 65536.0;
 const INT_SCALE: f64 = 256.0;
 
 /// Moves `x` by `k` ulps toward $+\infty$ if `k > 0`, toward $-\infty$ if `k < 0`, by
-/// adding `k` to the magnitude bits (which walks across binades exactly). `x` must be
-/// finite with $|x| \ge$ [`ORIGIN`], so it is normal and the step cannot cross zero.
+/// adding `k` to the magnitude bits (which walks across binades exactly). For finite `x`
+/// with $|x| \ge$ [`ORIGIN`] (normal, so the step cannot cross zero) the result is that
+/// value; for any other `x` it is meaningless but defined, and [`offset_ray`] discards
+/// it.
 #[inline(always)]
 fn step_ulps<T: Real>(x: T, k: i32) -> T {
     // Plain casts through the IEEE layouts of f32 and f64; T is one of the two and the
     // branch is resolved at compile time.
-    let k = if x < T::ZERO { -k } else { k };
+    let k = if x < T::ZERO { k.wrapping_neg() } else { k };
     if T::MANTISSA_DIGITS == f32::MANTISSA_DIGITS {
         let b = (x.to_f64() as f32).to_bits();
         <T as Real>::from_f64(f64::from(f32::from_bits(b.wrapping_add_signed(k))))
@@ -78,14 +80,16 @@ pub fn offset_ray<T: Real>(p: &Vec3<T>, n: &Vec3<T>, dir: &Vec3<T>) -> Vec3<T> {
     let mut out = *p;
     for i in 0..3 {
         let (x, ni) = (p[i], side * n[i]);
-        out[i] = if x.abs() < origin || !x.is_finite() || !ni.is_finite() {
-            // Near zero (or NaN/inf: arithmetic keeps it non-finite).
-            x + float_scale * ni
-        } else {
-            // Truncation toward zero, as the paper's int conversion.
-            let k = (int_scale * ni).to_f64() as i32;
-            step_ulps(x, k)
-        };
+        // Both candidates are computed and one is selected, without a branch: whether a
+        // coordinate is near zero varies from hit to hit.
+        // Near zero (or NaN/inf: arithmetic keeps it non-finite).
+        let near = x + float_scale * ni;
+        // Truncation toward zero, as the paper's int conversion (saturating, so a
+        // non-finite `ni`, whose result is not used, stays defined).
+        let k = (int_scale * ni).to_f64() as i32;
+        let stepped = step_ulps(x, k);
+        let use_near = x.abs() < origin || !x.is_finite() || !ni.is_finite();
+        out[i] = if use_near { near } else { stepped };
     }
     out
 }
