@@ -95,6 +95,21 @@ fn same_image(a: &tracer::Image, b: &tracer::Image) -> bool {
             .all(|(x, y)| x.to_bits() == y.to_bits())
 }
 
+/// Renders `s` with `off` (packets off) and then with packets on for each of `isas`, and
+/// asserts the same image bit for bit and the same ray counts; `what` names the case.
+fn assert_same_with_packets(s: &Scene<f32>, off: &Settings, isas: &[Isa], what: &str) {
+    let (reference, rc) = render_with_stats(s, off);
+    for &isa in isas {
+        let on = Settings {
+            packets: Packets::On(isa),
+            ..off.clone()
+        };
+        let (img, st) = render_with_stats(s, &on);
+        assert!(same_image(&img, &reference), "{what} {isa}: image differs");
+        assert_eq!(st.rays, rc.rays, "{what} {isa}: ray counts differ");
+    }
+}
+
 #[test]
 fn packet_hits_are_the_single_ray_hits() {
     let isas = isas("eye hits");
@@ -262,22 +277,7 @@ fn images_are_identical_with_packets_on_or_off_and_across_isas() {
                 packets: Packets::Off,
                 ..Settings::default()
             };
-            let (reference, rc) = render_with_stats(&s, &off);
-            for &isa in &isas {
-                let on = Settings {
-                    packets: Packets::On(isa),
-                    ..off.clone()
-                };
-                let (img, st) = render_with_stats(&s, &on);
-                assert!(
-                    same_image(&img, &reference),
-                    "{name} spd={spd} {isa}: image differs"
-                );
-                assert_eq!(
-                    st.rays, rc.rays,
-                    "{name} spd={spd} {isa}: ray counts differ"
-                );
-            }
+            assert_same_with_packets(&s, &off, &isas, &format!("{name} spd={spd}"));
         }
     }
 }
@@ -366,16 +366,7 @@ fn more_lights_than_a_packet_answers_give_the_same_image() {
         packets: Packets::Off,
         ..Settings::default()
     };
-    let (reference, rc) = render_with_stats(&s, &off);
-    for &isa in &isas {
-        let on = Settings {
-            packets: Packets::On(isa),
-            ..off.clone()
-        };
-        let (img, st) = render_with_stats(&s, &on);
-        assert!(same_image(&img, &reference), "{isa}: image differs");
-        assert_eq!(st.rays, rc.rays, "{isa}: ray counts differ");
-    }
+    assert_same_with_packets(&s, &off, &isas, "70 lights");
 }
 
 #[test]

@@ -80,12 +80,12 @@ pub fn offset_ray<T: Real>(p: &Vec3<T>, n: &Vec3<T>, dir: &Vec3<T>) -> Vec3<T> {
     let mut out = *p;
     for i in 0..3 {
         let (x, ni) = (p[i], side * n[i]);
-        // Both candidates are computed and one is selected, without a branch: whether a
-        // coordinate is near zero varies from hit to hit.
-        // Near zero (or NaN/inf: arithmetic keeps it non-finite).
+        // Both offsets are computed and one selected, without a branch: which one a
+        // coordinate takes varies from hit to hit.
+        // Near zero, or NaN/inf (arithmetic keeps it non-finite): an absolute offset.
         let near = x + float_scale * ni;
-        // Truncation toward zero, as the paper's int conversion (saturating, so a
-        // non-finite `ni`, whose result is not used, stays defined).
+        // Elsewhere `k` ulps, truncated toward zero as the paper's int conversion
+        // (saturating, so a non-finite `ni`, whose result is discarded, stays defined).
         let k = (int_scale * ni).to_f64() as i32;
         let stepped = step_ulps(x, k);
         let use_near = x.abs() < origin || !x.is_finite() || !ni.is_finite();
