@@ -22,8 +22,14 @@
 //! 3. `shadow_block` builds the shadow rays of the block's hits toward one light at a
 //!    time exactly as shading builds them (`shade::shadow_ray`) and traces
 //!    them as one any-hit packet; a ray leaves the packet at its first blocker.
-//! 4. Each pixel is then shaded by the single-ray code from its hit and its shadow bits
-//!    (`shade::shade_eye_lit`); reflection and refraction rays stay single.
+//! 4. Each hit is shaded by the single-ray code from its hit and its shadow bits
+//!    (`shade::shade_local`), which also makes its reflection and refraction rays.
+//! 5. **Secondary rays.** `radiance_tile` does steps 1 to 4 for a tile of 2x2 blocks,
+//!    then gathers the reflection and refraction rays of all the tile's hits, sorts
+//!    them by octant and traces them in full packets, generation after generation (the
+//!    shadow rays of these hits stay single, with the shadow cache). Last, each ray's
+//!    radiance is added to its parent's colour, in the order the recursive single-ray
+//!    shading adds it.
 //!
 //! Every lane computes exactly what the single ray computes (same operations in the
 //! same order, no fused multiply-add), and every hit is offered to the ray's record in
@@ -37,12 +43,16 @@
 //! `f64` scenes and supersampling trace single rays. Off x86-64 there are no packets.
 
 use crate::camera::{Camera, Grid, Window};
+use crate::effects::{has, REFLECTION, REFRACTION, SHADOWS};
 use crate::geometry::kinds;
 use crate::ray::{Hit, Ray};
 use crate::settings::TraceLimits;
-use crate::shade::{shadow_ray, shadow_start};
+use crate::shade::{shade_local, shadow_ray, shadow_start, Secondary};
+use crate::stats::RayCounts;
 use crate::world::Scene;
+use std::cell::Cell;
 use vecexpr::simd::Isa;
+use vecexpr::Vec3;
 
 pub use crate::geometry::MAX_LANES;
 pub use crate::settings::Packets;
@@ -177,6 +187,229 @@ pub(crate) fn shadow_block(
         }
     }
     blocked
+}
+
+/// One ray of the ray trees of a tile ([`radiance_tile`]).
+struct Node {
+    depth: u32,
+    /// The local colour of its hit, then, once its own secondary rays are added, its
+    /// radiance.
+    color: Vec3<f32>,
+    /// The ray, its weight and how its radiance joins the colour of the hit that
+    /// spawned it; `None` for an eye ray (weight 1, its ray in the tile's eye packets).
+    join: Option<Secondary<f32>>,
+    /// The nodes of the secondary rays its hit spawned, in the order it spawned them.
+    children: core::ops::Range<usize>,
+}
+
+/// Blocks of eye rays per tile of [`radiance_tile`]: [`TILE_SHAPE`] blocks across and
+/// down.
+pub(crate) const TILE: usize = TILE_SHAPE.0 * TILE_SHAPE.1;
+/// See [`TILE`].
+pub(crate) const TILE_SHAPE: (usize, usize) = (2, 2);
+
+/// The radiance of each eye ray, `[block][lane]`, of tile `tile` of window `win`: the
+/// blocks `(TILE_SHAPE.0 * tile.0 + i, TILE_SHAPE.1 * tile.1 + j)`, block `j *
+/// TILE_SHAPE.0 + i` (see [`eye_block`]; lanes without a ray stay zero).
+///
+/// Every ray of the tile's ray trees is traced in packets of `isa`, generation by
+/// generation: the eye rays block by block, with the shadow rays of their hits as one
+/// any-hit packet per light ([`shadow_block`]); then the reflection and refraction rays
+/// the hits spawn, gathered over the whole tile in the order of their parents into full
+/// packets, and so on down the generations. (The shadow rays of secondary hits stay
+/// single, where the shadow cache of [`crate::shade`] serves them: as packets they took
+/// 1.16 times the instructions of balls-s4's frame.) Each hit is shaded by the
+/// single-ray code ([`shade_local`]), and once the deepest generation is done each ray's
+/// radiance is added to its parent's colour, deepest generation first and in the order
+/// the parent spawned them, which is the order in which the recursive single-ray
+/// shading adds them. So the values and the ray counts are those of
+/// [`crate::shade::trace_fx`], bit for bit.
+///
+/// # Panics
+/// If the CPU lacks `isa`.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn radiance_tile<const FX: u32>(
+    scene: &Scene<f32>,
+    cam: &Camera<f32>,
+    isa: Isa,
+    grid: Grid,
+    win: Window,
+    tile: (usize, usize),
+    limits: &TraceLimits<f32>,
+    counts: &mut RayCounts,
+) -> [[Vec3<f32>; MAX_LANES]; TILE] {
+    let mut out = [[Vec3::zero(); MAX_LANES]; TILE];
+    let shadows = has(FX, SHADOWS) && shadow_packets(scene);
+    if !has(FX, REFLECTION | REFRACTION) {
+        // Eye rays only: each hit shaded as its packet is done.
+        for (b, out) in out.iter_mut().enumerate() {
+            let block = (
+                TILE_SHAPE.0 * tile.0 + b % TILE_SHAPE.0,
+                TILE_SHAPE.1 * tile.1 + b / TILE_SHAPE.0,
+            );
+            let (rays, hits) = eye_block(scene, cam, isa, grid, win, block);
+            let blocked = shadows.then(|| shadow_block(scene, isa, limits, &rays, &hits));
+            for (l, (ray, hit)) in rays.iter().zip(&hits).enumerate() {
+                let Some(ray) = ray else { continue };
+                counts.eye += 1;
+                out[l] = match hit {
+                    Some(hit) => {
+                        let cast = blocked.map(|b| b[l]);
+                        shade_local::<f32, FX>(scene, ray, hit, 1, 1.0, limits, counts, cast).0
+                    }
+                    None => scene.background,
+                };
+            }
+        }
+        return out;
+    }
+    let mut nodes = NODES.take();
+    nodes.clear();
+    let mut eye = [[usize::MAX; MAX_LANES]; TILE];
+    let mut packets = [([None; MAX_LANES], [None; MAX_LANES]); TILE];
+    for (b, (index, packet)) in eye.iter_mut().zip(&mut packets).enumerate() {
+        let block = (
+            TILE_SHAPE.0 * tile.0 + b % TILE_SHAPE.0,
+            TILE_SHAPE.1 * tile.1 + b / TILE_SHAPE.0,
+        );
+        *packet = eye_block(scene, cam, isa, grid, win, block);
+        for (e, ray) in index.iter_mut().zip(&packet.0) {
+            if ray.is_some() {
+                counts.eye += 1;
+                *e = nodes.len();
+                nodes.push(Node {
+                    depth: 1,
+                    color: scene.background,
+                    join: None,
+                    children: 0..0,
+                });
+            }
+        }
+    }
+    // The first node of the generation after the eye rays'.
+    let mut start = nodes.len();
+    for (index, (rays, hits)) in eye.iter().zip(&packets) {
+        shade_generation::<FX>(
+            scene, isa, limits, shadows, rays, hits, index, &mut nodes, counts,
+        );
+    }
+    let mut order = ORDER.take();
+    while start < nodes.len() {
+        let end = nodes.len();
+        by_octant(&nodes[start..end], start, &mut order);
+        for chunk in order.chunks(isa.lanes()) {
+            let mut rays = [None; MAX_LANES];
+            let mut index = [usize::MAX; MAX_LANES];
+            for (k, &i) in chunk.iter().enumerate() {
+                rays[k] = nodes[i].join.map(|s| s.ray);
+                index[k] = i;
+            }
+            let mut hits = [None; MAX_LANES];
+            scene.geometry.intersect_packet_into(isa, &rays, &mut hits);
+            shade_generation::<FX>(
+                scene, isa, limits, false, &rays, &hits, &index, &mut nodes, counts,
+            );
+        }
+        start = end;
+    }
+    ORDER.set(order);
+    // Children come after their parents, so backwards every child's radiance is
+    // complete before it is added to its parent's colour.
+    let ar = &limits.arith;
+    for i in (0..nodes.len()).rev() {
+        for c in nodes[i].children.clone() {
+            let (color, join) = (nodes[c].color, nodes[c].join);
+            if let Some(s) = join {
+                s.add_to(&mut nodes[i].color, &color, ar);
+            }
+        }
+    }
+    for (o, index) in out.iter_mut().zip(&eye) {
+        for (o, &e) in o.iter_mut().zip(index) {
+            if e != usize::MAX {
+                *o = nodes[e].color;
+            }
+        }
+    }
+    NODES.set(nodes);
+    out
+}
+
+thread_local! {
+    /// The nodes of [`radiance_tile`], kept from tile to tile on each thread.
+    static NODES: Cell<Vec<Node>> = const { Cell::new(Vec::new()) };
+    /// The order of a generation's nodes in its packets ([`by_octant`]).
+    static ORDER: Cell<Vec<usize>> = const { Cell::new(Vec::new()) };
+}
+
+/// Into `order`, the indices `first..first + nodes.len()` of `nodes` sorted (stably) by
+/// the octant of their rays' directions: a packet walks the tree once per octant among
+/// its rays ([`crate::bvh::Bvh::traverse4_packet`]), so rays of one octant fill the
+/// packets of a generation together.
+fn by_octant(nodes: &[Node], first: usize, order: &mut Vec<usize>) {
+    let octant = |n: &Node| {
+        let d = n
+            .join
+            .as_ref()
+            .map_or([0.0; 3], |s| [s.ray.dir[0], s.ray.dir[1], s.ray.dir[2]]);
+        usize::from(d[0] < 0.0) | usize::from(d[1] < 0.0) << 1 | usize::from(d[2] < 0.0) << 2
+    };
+    let mut starts = [0usize; 9];
+    for n in nodes {
+        starts[octant(n) + 1] += 1;
+    }
+    for o in 1..9 {
+        starts[o] += starts[o - 1];
+    }
+    order.clear();
+    order.resize(nodes.len(), 0);
+    for (i, n) in nodes.iter().enumerate() {
+        let o = octant(n);
+        order[starts[o]] = first + i;
+        starts[o] += 1;
+    }
+}
+
+/// Shades the hits of one packet of a generation of [`radiance_tile`]: lane `k` holds
+/// ray `rays[k]` of node `index[k]` and its closest hit `hits[k]`; the node's colour
+/// becomes the local colour of its hit, or the background, and the secondary rays the
+/// hit spawns are appended to `nodes`.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+fn shade_generation<const FX: u32>(
+    scene: &Scene<f32>,
+    isa: Isa,
+    limits: &TraceLimits<f32>,
+    shadows: bool,
+    rays: &[Option<Ray<f32>>; MAX_LANES],
+    hits: &Block,
+    index: &[usize; MAX_LANES],
+    nodes: &mut Vec<Node>,
+    counts: &mut RayCounts,
+) {
+    let blocked = shadows.then(|| shadow_block(scene, isa, limits, rays, hits));
+    for (k, (ray, hit)) in rays.iter().zip(hits).enumerate() {
+        let (Some(ray), Some(hit)) = (ray, hit) else {
+            continue;
+        };
+        let i = index[k];
+        let depth = nodes[i].depth;
+        let weight = nodes[i].join.map_or(1.0, |s| s.weight);
+        let cast = blocked.map(|b| b[k]);
+        let (color, spawned) =
+            shade_local::<f32, FX>(scene, ray, hit, depth, weight, limits, counts, cast);
+        nodes[i].color = color;
+        let first = nodes.len();
+        for s in spawned.into_iter().flatten() {
+            nodes.push(Node {
+                depth: depth + 1,
+                color: scene.background,
+                join: Some(s),
+                children: 0..0,
+            });
+        }
+        nodes[i].children = first..nodes.len();
+    }
 }
 
 /// The eye rays through the pixel centres of an image, gathered into packets once, and

@@ -18,10 +18,10 @@ use crate::camera::{Camera, Grid, Window};
 use crate::effects::{self, has, EffectChoice, EffectFn, EffectSet, EffectsMode, SUPERSAMPLING};
 use crate::float::{Family, Float};
 use crate::image::Image;
-use crate::packets::{block_shape, eye_block, shadow_block, shadow_packets, MAX_LANES};
+use crate::packets::{block_shape, radiance_tile, MAX_LANES, TILE, TILE_SHAPE};
 use crate::schedule::{for_each_point, with_threads, Progress};
 use crate::settings::TraceLimits;
-use crate::shade::{shade_eye_lit, shade_fx, trace_fx};
+use crate::shade::trace_fx;
 use crate::stats::RayCounts;
 use crate::world::Scene;
 use std::time::Instant;
@@ -231,8 +231,9 @@ fn eye_sample<T: Float, const FX: u32>(
 
 /// The radiance of the eye ray through every point of window `win` of the grid of
 /// `grid`'s points, row-major, and the rays traced: the one loop over the image. Single
-/// rays are traced point by point ([`eye_sample`]); packets ([`crate::packets`]) a block
-/// at a time ([`eye_packet`]). The values are the same either way, bit for bit.
+/// rays are traced point by point ([`eye_sample`]); packets ([`crate::packets`]) a tile
+/// of blocks at a time ([`radiance_tile`]). The values are the same either way, bit for
+/// bit.
 fn eye_radiance<T: Float, const FX: u32>(
     scene: &Scene<T>,
     cam: &Camera<T>,
@@ -244,34 +245,23 @@ fn eye_radiance<T: Float, const FX: u32>(
     let size = win.size;
     if let Some((p, isa)) = run.packets {
         let (bw, bh) = block_shape(isa);
-        let blocks = (size.0.div_ceil(bw), size.1.div_ceil(bh));
+        let (tw, th) = (bw * TILE_SHAPE.0, bh * TILE_SHAPE.1);
+        let tiles = (size.0.div_ceil(tw), size.1.div_ceil(th));
         let scene = T::to_f32::<SceneOf>(p, scene);
         let cam = T::to_f32::<CameraOf>(p, cam);
         let limits = T::to_f32::<LimitsOf>(p, limits);
-        run.progress.add_rows(blocks.1 as u64);
-        let (blocks, counts) = for_each_point(
-            blocks,
+        run.progress.add_rows(tiles.1 as u64);
+        let (tiles, counts) = for_each_point(
+            tiles,
             run.schedule,
             run.threads,
             run.progress,
-            |bx, by, counts| {
-                let mut out = [Vec3::<f32>::zero(); MAX_LANES];
-                eye_packet::<FX>(
-                    scene,
-                    cam,
-                    isa,
-                    grid,
-                    win,
-                    (bx, by),
-                    limits,
-                    counts,
-                    &mut out,
-                );
-                out
+            |tx, ty, counts| {
+                radiance_tile::<FX>(scene, cam, isa, grid, win, (tx, ty), limits, counts)
             },
         );
         let mut values = vec![Vec3::<f32>::zero(); size.0 * size.1];
-        scatter(&blocks, (bw, bh), size, &mut values);
+        scatter(&tiles, (bw, bh), size, &mut values);
         return (T::from_f32::<PointsOf>(p, values), counts);
     }
     run.progress.add_rows(size.1 as u64);
@@ -287,57 +277,26 @@ fn eye_radiance<T: Float, const FX: u32>(
     )
 }
 
-/// The radiance of each eye ray of one packet of block `(bx, by)` of window `win`,
-/// traced together ([`eye_block`]), with the shadow rays of their hits traced as one
-/// packet per light ([`shadow_block`]), and shaded one by one as [`eye_sample`] shades
-/// them, into `out[lane]` for each lane with a ray.
-#[allow(clippy::too_many_arguments)]
-#[inline]
-fn eye_packet<const FX: u32>(
-    scene: &Scene<f32>,
-    cam: &Camera<f32>,
-    isa: Isa,
-    grid: Grid,
-    win: Window,
-    block: (usize, usize),
-    limits: &TraceLimits<f32>,
-    counts: &mut RayCounts,
-    out: &mut [Vec3<f32>; MAX_LANES],
-) {
-    let (rays, hits) = eye_block(scene, cam, isa, grid, win, block);
-    // The shadow rays of the eye hits, toward one light at a time, as packets too.
-    let blocked = if has(FX, effects::SHADOWS) && shadow_packets(scene) {
-        Some(shadow_block(scene, isa, limits, &rays, &hits))
-    } else {
-        None
-    };
-    for (l, (ray, hit)) in rays.iter().zip(&hits).enumerate() {
-        let Some(ray) = ray else { continue };
-        counts.eye += 1;
-        out[l] = match (hit, &blocked) {
-            (Some(hit), Some(b)) => shade_eye_lit::<f32, FX>(scene, ray, hit, limits, counts, b[l]),
-            (Some(hit), None) => shade_fx::<f32, FX>(scene, ray, hit, 1, 1.0, limits, counts),
-            (None, _) => scene.background,
-        };
-    }
-}
-
-/// Writes the per-block values of a `w` x `h` grid of blocks of shape `(bw, bh)` into
-/// `out`, row-major.
+/// Writes the per-tile values of a `w` x `h` grid, in tiles of [`TILE_SHAPE`] blocks of
+/// shape `(bw, bh)` (as [`radiance_tile`] returns them), into `out`, row-major.
 fn scatter<V: Copy>(
-    blocks: &[[V; MAX_LANES]],
+    tiles: &[[[V; MAX_LANES]; TILE]],
     (bw, bh): (usize, usize),
     (w, h): (usize, usize),
     out: &mut [V],
 ) {
-    let nbx = w.div_ceil(bw);
-    for (k, b) in blocks.iter().enumerate() {
-        let (bx, by) = (k % nbx, k / nbx);
-        for j in 0..bh {
-            for i in 0..bw {
-                let (x, y) = (bx * bw + i, by * bh + j);
-                if x < w && y < h {
-                    out[y * w + x] = b[j * bw + i];
+    let (tw, th) = (bw * TILE_SHAPE.0, bh * TILE_SHAPE.1);
+    let ntx = w.div_ceil(tw);
+    for (k, tile) in tiles.iter().enumerate() {
+        let (x0, y0) = ((k % ntx) * tw, (k / ntx) * th);
+        for (b, block) in tile.iter().enumerate() {
+            let (bx, by) = (x0 + (b % TILE_SHAPE.0) * bw, y0 + (b / TILE_SHAPE.0) * bh);
+            for j in 0..bh {
+                for i in 0..bw {
+                    let (x, y) = (bx + i, by + j);
+                    if x < w && y < h {
+                        out[y * w + x] = block[j * bw + i];
+                    }
                 }
             }
         }

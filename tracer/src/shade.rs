@@ -54,23 +54,6 @@ pub fn shade_fx<T: Float, const FX: u32>(
     shade_lit::<T, FX>(scene, ray, hit, depth, weight, limits, counts, None)
 }
 
-/// [`shade_fx`] for an eye ray (depth 1) whose shadow rays toward the first 64 lights
-/// were already cast, built by [`shadow_ray`] and traced as packets
-/// ([`crate::packets::shadow_block`]): bit `li` of `blocked` says
-/// whether the shadow ray toward light `li` is blocked (read only for the lights the
-/// shading casts a shadow ray to). Further lights are queried as in `shade_fx`. Returns
-/// what `shade_fx` returns and counts the same rays.
-pub(crate) fn shade_eye_lit<T: Float, const FX: u32>(
-    scene: &Scene<T>,
-    ray: &Ray<T>,
-    hit: &Hit<T>,
-    limits: &TraceLimits<T>,
-    counts: &mut RayCounts,
-    blocked: u64,
-) -> Vec3<T> {
-    shade_lit::<T, FX>(scene, ray, hit, 1, T::ONE, limits, counts, Some(blocked))
-}
-
 /// The geometric and shading normals at `hit` faced toward the incoming direction `d`,
 /// and whether the ray enters the surface.
 #[inline(always)]
@@ -135,11 +118,8 @@ pub(crate) fn shadow_ray<T: Real>(
     light_ray(light, &hit.point, ng, above, &limits.arith).map(|(r, _)| r)
 }
 
-/// The body of [`shade_fx`]. `cast` holds the answers of shadow rays already traced
-/// (bit `li` for light `li < 64`, as in [`shade_eye_lit`]); with `None`, or for further
-/// lights, each shadow ray is traced here. (An `Option` rather than a closure: the
-/// closure's body, the whole any-hit traversal, was compiled out of line and ran 29% more
-/// instructions per frame on balls-s4 with packets off, callgrind.)
+/// The body of [`shade_fx`]: the local light ([`shade_local`]) plus the radiance of the
+/// secondary rays it spawns, each traced here in turn.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn shade_lit<T: Float, const FX: u32>(
@@ -152,6 +132,64 @@ fn shade_lit<T: Float, const FX: u32>(
     counts: &mut RayCounts,
     cast: Option<u64>,
 ) -> Vec3<T> {
+    let (mut color, spawned) =
+        shade_local::<T, FX>(scene, ray, hit, depth, weight, limits, counts, cast);
+    for s in spawned.iter().flatten() {
+        let c = trace_fx::<T, FX>(scene, &s.ray, depth + 1, s.weight, limits, counts);
+        s.add_to(&mut color, &c, &limits.arith);
+    }
+    color
+}
+
+/// A secondary ray spawned by the shading of a hit, and how its radiance joins the
+/// hit's colour ([`Secondary::add_to`]).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Secondary<T: Real> {
+    /// The ray, from the offset hit point.
+    pub ray: Ray<T>,
+    /// Its accumulated weight, for adaptive termination.
+    pub weight: T,
+    /// The factor of its radiance: $K_t$ or $K_r$.
+    k: T,
+    /// The surface colour a refracted ray's radiance is filtered by; `None` for a
+    /// reflection.
+    filter: Option<Vec3<T>>,
+}
+
+impl<T: Real> Secondary<T> {
+    /// Adds radiance `c` of this ray to `color`, the colour of the hit that spawned it:
+    /// $K_t C I_t$ or $K_r I_r$.
+    #[inline(always)]
+    pub(crate) fn add_to(&self, color: &mut Vec3<T>, c: &Vec3<T>, ar: &crate::arith::Arith) {
+        match &self.filter {
+            Some(f) => ar.add_scaled(color, &(c * f).eval(), self.k),
+            None => ar.add_scaled(color, c, self.k),
+        }
+    }
+}
+
+/// The local illumination at `hit` of `ray` (ambient and the lights, with their shadow
+/// rays) and the secondary rays it spawns, refraction first: what [`shade_fx`] computes
+/// before it traces them, and the rays it counts. `cast` holds the answers of shadow
+/// rays already traced (bit `li` for light `li < 64`, as
+/// [`crate::packets::shadow_block`] returns them); with
+/// `None`, or for further lights, each shadow ray is traced here. (An `Option` rather
+/// than a closure: the closure's body, the whole any-hit traversal, was compiled out of
+/// line and ran 29% more instructions per frame on balls-s4 with packets off,
+/// callgrind.) The colour of the hit is the local colour with the radiance of each
+/// secondary ray added in turn by [`Secondary::add_to`].
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub(crate) fn shade_local<T: Float, const FX: u32>(
+    scene: &Scene<T>,
+    ray: &Ray<T>,
+    hit: &Hit<T>,
+    depth: u32,
+    weight: T,
+    limits: &TraceLimits<T>,
+    counts: &mut RayCounts,
+    cast: Option<u64>,
+) -> (Vec3<T>, [Option<Secondary<T>>; 2]) {
     let m = &scene.materials[hit.material as usize];
     let d = &ray.dir;
     let (entering, ng, ns) = facing(hit, d);
@@ -195,8 +233,9 @@ fn shade_lit<T: Float, const FX: u32>(
         }
     }
 
+    let mut spawned = [None, None];
     if !has(FX, REFLECTION | REFRACTION) || depth >= limits.max_depth {
-        return color;
+        return (color, spawned);
     }
 
     // Secondary rays: refraction first, since total internal reflection moves its weight
@@ -208,9 +247,12 @@ fn shade_lit<T: Float, const FX: u32>(
             Some(t_dir) if wanted::<T, FX>(weight * m.kt, limits) => {
                 counts.refraction += 1;
                 let t_dir = ar.normalize(&t_dir);
-                let r = Ray::new(offset_ray(p, &ng, &t_dir), t_dir);
-                let c = trace_fx::<T, FX>(scene, &r, depth + 1, weight * m.kt, limits, counts);
-                ar.add_scaled(&mut color, &(&c * &m.color).eval(), m.kt);
+                spawned[0] = Some(Secondary {
+                    ray: Ray::new(offset_ray(p, &ng, &t_dir), t_dir),
+                    weight: weight * m.kt,
+                    k: m.kt,
+                    filter: Some(m.color),
+                });
             }
             Some(_) => {}
             None => kr += m.kt,
@@ -220,11 +262,14 @@ fn shade_lit<T: Float, const FX: u32>(
     if has(FX, REFLECTION) && spawn_reflection && wanted::<T, FX>(weight * kr, limits) {
         counts.reflection += 1;
         let r_dir = ar.normalize(&ar.reflect(d, &ns));
-        let r = Ray::new(offset_ray(p, &ng, &r_dir), r_dir);
-        let c = trace_fx::<T, FX>(scene, &r, depth + 1, weight * kr, limits, counts);
-        ar.add_scaled(&mut color, &c, kr);
+        spawned[1] = Some(Secondary {
+            ray: Ray::new(offset_ray(p, &ng, &r_dir), r_dir),
+            weight: weight * kr,
+            k: kr,
+            filter: None,
+        });
     }
-    color
+    (color, spawned)
 }
 
 /// Lights and ray depths with a shadow cache entry; shadow rays of others go uncached.

@@ -282,6 +282,36 @@ fn images_are_identical_with_packets_on_or_off_and_across_isas() {
     }
 }
 
+/// With packets on, the reflection and refraction rays of a tile are traced generation
+/// by generation in packets sorted by octant, and each ray's radiance is added to its
+/// parent's colour afterwards. Deep trees (depth 12, where mount-s1's glass spheres spawn
+/// both rays at every hit), adaptive termination, which prunes some branches and keeps
+/// others, and a width that leaves partial tiles at the edge all give the single-ray
+/// image and ray counts.
+#[test]
+fn secondary_ray_packets_give_the_single_ray_trees() {
+    let isas = isas("secondary rays");
+    for name in ["mount-s1.nff", "shells-s1.nff", "showcase.nff", "teapot-s1.nff"] {
+        let s = scene(name, &AccelOptions::default());
+        for (depth, threshold) in [(12, 0.0), (12, 0.05), (3, 0.3), (1, 0.0)] {
+            let off = Settings {
+                width: Some(43),
+                height: Some(19),
+                depth,
+                threshold,
+                packets: Packets::Off,
+                ..Settings::default()
+            };
+            let (_, st) = render_with_stats(&s, &off);
+            if depth > 1 && threshold == 0.0 {
+                assert!(st.rays.reflection > 0, "{name}: no reflection rays");
+            }
+            let what = format!("{name} depth={depth} threshold={threshold}");
+            assert_same_with_packets(&s, &off, &isas, &what);
+        }
+    }
+}
+
 #[test]
 fn viewer_passes_are_identical_with_packets_on_or_off() {
     let isas = isas("viewer passes");
