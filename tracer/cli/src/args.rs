@@ -264,8 +264,9 @@ impl ScheduleArgs {
 /// Eye-ray packet options shared by `render` and `bench`.
 #[derive(clap::Args, Debug, Clone)]
 pub struct PacketArgs {
-    /// Trace eye rays in SIMD packets (the image is the same either way); auto: on with
-    /// AVX2 or AVX-512, or with the --isa named.
+    /// Trace rays in SIMD packets: eye rays, their shadow rays, and reflection and
+    /// refraction rays (the image is the same either way); auto: on with AVX2 or AVX-512,
+    /// or with the --isa named.
     #[arg(long, value_parser = ["auto", "on", "off"], default_value = "auto")]
     pub packets: String,
     /// Instruction set of the packet kernels: the CPU's widest (auto) or a named one.
