@@ -47,7 +47,7 @@ use crate::effects::{has, REFLECTION, REFRACTION, SHADOWS};
 use crate::geometry::kinds;
 use crate::ray::{Hit, Ray};
 use crate::settings::TraceLimits;
-use crate::shade::{shade_local, shadow_ray, shadow_start, Secondary};
+use crate::shade::{shade_local, shadow_ray, shadow_start, trace_fx, Secondary};
 use crate::stats::RayCounts;
 use crate::world::Scene;
 use std::cell::Cell;
@@ -200,7 +200,16 @@ struct Node {
     join: Option<Secondary<f32>>,
     /// The nodes of the secondary rays its hit spawned, in the order it spawned them.
     children: core::ops::Range<usize>,
+    /// Was its radiance traced at once, by the single-ray recursion, when the tile had
+    /// [`NODE_LIMIT`] nodes already?
+    traced: bool,
 }
+
+/// The most nodes a tile of [`radiance_tile`] holds; the ray trees beyond are traced by
+/// the single-ray recursion, depth first. (A tile holds all of its ray trees at once,
+/// and with deep refraction they grow without bound: mount-s6 at `--depth 40` spawns
+/// 57,000 rays per pixel.)
+const NODE_LIMIT: usize = 4096;
 
 /// Blocks of eye rays per tile of [`radiance_tile`]: [`TILE_SHAPE`] blocks across and
 /// down.
@@ -282,6 +291,7 @@ pub(crate) fn radiance_tile<const FX: u32>(
                     color: scene.background,
                     join: None,
                     children: 0..0,
+                    traced: false,
                 });
             }
         }
@@ -289,7 +299,7 @@ pub(crate) fn radiance_tile<const FX: u32>(
     // The first node of the generation after the eye rays'.
     let mut start = nodes.len();
     for (index, (rays, hits)) in eye.iter().zip(&packets) {
-        shade_generation::<FX>(
+        shade_generation::<FX, false>(
             scene, isa, limits, shadows, rays, hits, index, &mut nodes, counts,
         );
     }
@@ -306,9 +316,17 @@ pub(crate) fn radiance_tile<const FX: u32>(
             }
             let mut hits = [None; MAX_LANES];
             scene.geometry.intersect_packet_into(isa, &rays, &mut hits);
-            shade_generation::<FX>(
-                scene, isa, limits, false, &rays, &hits, &index, &mut nodes, counts,
-            );
+            // Room for every ray the packet's hits may spawn, or else they are traced at
+            // once by the single-ray recursion.
+            if nodes.len() + 2 * MAX_LANES <= NODE_LIMIT {
+                shade_generation::<FX, false>(
+                    scene, isa, limits, false, &rays, &hits, &index, &mut nodes, counts,
+                );
+            } else {
+                shade_generation::<FX, true>(
+                    scene, isa, limits, false, &rays, &hits, &index, &mut nodes, counts,
+                );
+            }
         }
         start = end;
     }
@@ -342,41 +360,46 @@ thread_local! {
     static ORDER: Cell<Vec<usize>> = const { Cell::new(Vec::new()) };
 }
 
-/// Into `order`, the indices `first..first + nodes.len()` of `nodes` sorted (stably) by
-/// the octant of their rays' directions: a packet walks the tree once per octant among
-/// its rays ([`crate::bvh::Bvh::traverse4_packet`]), so rays of one octant fill the
-/// packets of a generation together.
+/// Into `order`, the indices `first..first + nodes.len()` of the nodes of `nodes` still
+/// to trace, sorted (stably) by the octant of their rays' directions: a packet walks the
+/// tree once per octant among its rays ([`crate::bvh::Bvh::traverse4_packet`]), so rays
+/// of one octant fill the packets of a generation together.
 fn by_octant(nodes: &[Node], first: usize, order: &mut Vec<usize>) {
-    let octant = |n: &Node| {
-        let d = n
-            .join
-            .as_ref()
-            .map_or([0.0; 3], |s| [s.ray.dir[0], s.ray.dir[1], s.ray.dir[2]]);
-        usize::from(d[0] < 0.0) | usize::from(d[1] < 0.0) << 1 | usize::from(d[2] < 0.0) << 2
+    // Octants 0 to 7, and 8 for a node already traced.
+    let key = |n: &Node| match &n.join {
+        Some(s) if !n.traced => {
+            let d = &s.ray.dir;
+            usize::from(d[0] < 0.0) | usize::from(d[1] < 0.0) << 1 | usize::from(d[2] < 0.0) << 2
+        }
+        _ => 8,
     };
-    let mut starts = [0usize; 9];
+    let mut starts = [0usize; 10];
     for n in nodes {
-        starts[octant(n) + 1] += 1;
+        starts[key(n) + 1] += 1;
     }
-    for o in 1..9 {
+    for o in 1..10 {
         starts[o] += starts[o - 1];
     }
+    let to_trace = starts[8];
     order.clear();
     order.resize(nodes.len(), 0);
     for (i, n) in nodes.iter().enumerate() {
-        let o = octant(n);
+        let o = key(n);
         order[starts[o]] = first + i;
         starts[o] += 1;
     }
+    order.truncate(to_trace);
 }
 
 /// Shades the hits of one packet of a generation of [`radiance_tile`]: lane `k` holds
 /// ray `rays[k]` of node `index[k]` and its closest hit `hits[k]`; the node's colour
 /// becomes the local colour of its hit, or the background, and the secondary rays the
-/// hit spawns are appended to `nodes`.
+/// hit spawns are appended to `nodes`: to be traced with the next generation, or with
+/// `BEYOND` (no room left under [`NODE_LIMIT`]) traced at once by the single-ray
+/// recursion, their radiance in the node.
 #[allow(clippy::too_many_arguments)]
 #[inline]
-fn shade_generation<const FX: u32>(
+fn shade_generation<const FX: u32, const BEYOND: bool>(
     scene: &Scene<f32>,
     isa: Isa,
     limits: &TraceLimits<f32>,
@@ -401,11 +424,18 @@ fn shade_generation<const FX: u32>(
         nodes[i].color = color;
         let first = nodes.len();
         for s in spawned.into_iter().flatten() {
+            let traced = BEYOND;
+            let color = if traced {
+                trace_fx::<f32, FX>(scene, &s.ray, depth + 1, s.weight, limits, counts)
+            } else {
+                scene.background
+            };
             nodes.push(Node {
                 depth: depth + 1,
-                color: scene.background,
+                color,
                 join: Some(s),
                 children: 0..0,
+                traced,
             });
         }
         nodes[i].children = first..nodes.len();
