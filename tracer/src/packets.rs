@@ -217,9 +217,19 @@ pub(crate) const TILE: usize = TILE_SHAPE.0 * TILE_SHAPE.1;
 /// See [`TILE`].
 pub(crate) const TILE_SHAPE: (usize, usize) = (2, 2);
 
-/// The radiance of each eye ray, `[block][lane]`, of tile `tile` of window `win`: the
-/// blocks `(TILE_SHAPE.0 * tile.0 + i, TILE_SHAPE.1 * tile.1 + j)`, block `j *
-/// TILE_SHAPE.0 + i` (see [`eye_block`]; lanes without a ray stay zero).
+/// Block `b` of tile `tile`: `(TILE_SHAPE.0 * tile.0 + i, TILE_SHAPE.1 * tile.1 + j)`
+/// for `b = j * TILE_SHAPE.0 + i`.
+#[inline]
+fn tile_block(tile: (usize, usize), b: usize) -> (usize, usize) {
+    (
+        TILE_SHAPE.0 * tile.0 + b % TILE_SHAPE.0,
+        TILE_SHAPE.1 * tile.1 + b / TILE_SHAPE.0,
+    )
+}
+
+/// The radiance of each eye ray, `[block][lane]`, of tile `tile` of window `win`, block
+/// `b` being [`tile_block`]`(tile, b)` (see [`eye_block`]; lanes without a ray stay
+/// zero).
 ///
 /// Every ray of the tile's ray trees is traced in packets of `isa`, generation by
 /// generation: the eye rays block by block, with the shadow rays of their hits as one
@@ -227,11 +237,11 @@ pub(crate) const TILE_SHAPE: (usize, usize) = (2, 2);
 /// the hits spawn, gathered over the whole tile in the order of their parents into full
 /// packets, and so on down the generations. (The shadow rays of secondary hits stay
 /// single, where the shadow cache of [`crate::shade`] serves them: as packets they took
-/// 1.16 times the instructions of balls-s4's frame.) Each hit is shaded by the
+/// 1.14 times the instructions of balls-s4's frame.) Each hit is shaded by the
 /// single-ray code ([`shade_local`]), and once the deepest generation is done each ray's
-/// radiance is added to its parent's colour, deepest generation first and in the order
-/// the parent spawned them, which is the order in which the recursive single-ray
-/// shading adds them. So the values and the ray counts are those of
+/// radiance is added to its parent's colour, children before parents and the children
+/// of one hit in the order it spawned them, which is the order in which the recursive
+/// single-ray shading adds them. So the values and the ray counts are those of
 /// [`crate::shade::trace_fx`], bit for bit.
 ///
 /// # Panics
@@ -252,11 +262,7 @@ pub(crate) fn radiance_tile<const FX: u32>(
     if !has(FX, REFLECTION | REFRACTION) {
         // Eye rays only: each hit shaded as its packet is done.
         for (b, out) in out.iter_mut().enumerate() {
-            let block = (
-                TILE_SHAPE.0 * tile.0 + b % TILE_SHAPE.0,
-                TILE_SHAPE.1 * tile.1 + b / TILE_SHAPE.0,
-            );
-            let (rays, hits) = eye_block(scene, cam, isa, grid, win, block);
+            let (rays, hits) = eye_block(scene, cam, isa, grid, win, tile_block(tile, b));
             let blocked = shadows.then(|| shadow_block(scene, isa, limits, &rays, &hits));
             for (l, (ray, hit)) in rays.iter().zip(&hits).enumerate() {
                 let Some(ray) = ray else { continue };
@@ -277,11 +283,7 @@ pub(crate) fn radiance_tile<const FX: u32>(
     let mut eye = [[usize::MAX; MAX_LANES]; TILE];
     let mut packets = [([None; MAX_LANES], [None; MAX_LANES]); TILE];
     for (b, (index, packet)) in eye.iter_mut().zip(&mut packets).enumerate() {
-        let block = (
-            TILE_SHAPE.0 * tile.0 + b % TILE_SHAPE.0,
-            TILE_SHAPE.1 * tile.1 + b / TILE_SHAPE.0,
-        );
-        *packet = eye_block(scene, cam, isa, grid, win, block);
+        *packet = eye_block(scene, cam, isa, grid, win, tile_block(tile, b));
         for (e, ray) in index.iter_mut().zip(&packet.0) {
             if ray.is_some() {
                 counts.eye += 1;
@@ -424,8 +426,7 @@ fn shade_generation<const FX: u32, const BEYOND: bool>(
         nodes[i].color = color;
         let first = nodes.len();
         for s in spawned.into_iter().flatten() {
-            let traced = BEYOND;
-            let color = if traced {
+            let color = if BEYOND {
                 trace_fx::<f32, FX>(scene, &s.ray, depth + 1, s.weight, limits, counts)
             } else {
                 scene.background
@@ -435,7 +436,7 @@ fn shade_generation<const FX: u32, const BEYOND: bool>(
                 color,
                 join: Some(s),
                 children: 0..0,
-                traced,
+                traced: BEYOND,
             });
         }
         nodes[i].children = first..nodes.len();
