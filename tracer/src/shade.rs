@@ -51,7 +51,14 @@ pub fn shade_fx<T: Float, const FX: u32>(
     limits: &TraceLimits<T>,
     counts: &mut RayCounts,
 ) -> Vec3<T> {
-    shade_lit::<T, FX>(scene, ray, hit, depth, weight, limits, counts, None)
+    // The local light, then each secondary ray traced and its radiance added in turn.
+    let (mut color, spawned) =
+        shade_local::<T, FX>(scene, ray, hit, depth, weight, limits, counts, None);
+    for s in spawned.iter().flatten() {
+        let c = trace_fx::<T, FX>(scene, &s.ray, depth + 1, s.weight, limits, counts);
+        s.add_to(&mut color, &c, &limits.arith);
+    }
+    color
 }
 
 /// The geometric and shading normals at `hit` faced toward the incoming direction `d`,
@@ -116,29 +123,6 @@ pub(crate) fn shadow_ray<T: Real>(
     limits: &TraceLimits<T>,
 ) -> Option<Ray<T>> {
     light_ray(light, &hit.point, ng, above, &limits.arith).map(|(r, _)| r)
-}
-
-/// The body of [`shade_fx`]: the local light ([`shade_local`]) plus the radiance of the
-/// secondary rays it spawns, each traced here in turn.
-#[allow(clippy::too_many_arguments)]
-#[inline(always)]
-fn shade_lit<T: Float, const FX: u32>(
-    scene: &Scene<T>,
-    ray: &Ray<T>,
-    hit: &Hit<T>,
-    depth: u32,
-    weight: T,
-    limits: &TraceLimits<T>,
-    counts: &mut RayCounts,
-    cast: Option<u64>,
-) -> Vec3<T> {
-    let (mut color, spawned) =
-        shade_local::<T, FX>(scene, ray, hit, depth, weight, limits, counts, cast);
-    for s in spawned.iter().flatten() {
-        let c = trace_fx::<T, FX>(scene, &s.ray, depth + 1, s.weight, limits, counts);
-        s.add_to(&mut color, &c, &limits.arith);
-    }
-    color
 }
 
 /// A secondary ray spawned by the shading of a hit, and how its radiance joins the
