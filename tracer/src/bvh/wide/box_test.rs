@@ -1,26 +1,28 @@
-//! The slab test of one ray against the four child boxes of a wide node, over `vecexpr`
-//! packets of four lanes: lane `i` computes exactly what the binary tree's
-//! [`TraversalRay::hit_box`] computes for child `i` (the conservative test of Ize 2013).
+//! The slab test of one ray against the four child boxes of a wide node: lane `i`
+//! computes exactly what the binary tree's [`TraversalRay::hit_box`] computes for child
+//! `i` (the conservative test of Ize 2013). In `f32` on x86-64 the four lanes are one SSE
+//! register; otherwise `vecexpr`'s plain-array packets of four.
 //!
 //! # Why the formula is written out here
 //! The other box tests call the one source of the formula,
 //! [`slab`](crate::bvh::traverse::slab). This one writes
-//! its operations out, in the same order: it runs on `vecexpr`'s plain-array packets
-//! (`Packet<T, U4>`, for `f32` and `f64` alike), whose code depends on how the
-//! optimiser sees the lanes, and calling `slab` here, with the same operations,
-//! compiled to slower code: single rays (`--packets off`) on balls-s4 at 128 x 128 ran
-//! 168.1 M instructions (callgrind, whole run) instead of 152.9 M, +10 %. The test
-//! against the scalar test below (`packet_test_matches_the_scalar_test`) keeps the two
-//! in step.
+//! its operations out, in the same order: calling `slab` on the plain-array packets,
+//! with the same operations, compiled to slower code: single rays (`--packets off`) on
+//! balls-s4 at 128 x 128 ran 168.1 M instructions (callgrind, whole run) instead of
+//! 152.9 M, +10 %. Even written out, the plain-array form depends on how the optimiser
+//! sees the lanes, which differs between the instantiations of the walk; hence the SSE
+//! form for `f32` ([`Box4Ray::hit_bits`]). The test against the scalar test below
+//! (`packet_test_matches_the_scalar_test`) keeps the forms in step.
 
 use super::{Node4, WIDTH};
 use crate::bvh::traverse::TraversalRay;
+use crate::float::{Family, Float};
 use vecexpr::typenum::U4;
 use vecexpr::{Mask, Packet, Real, Scalar};
 
 type P4<T> = Packet<T, U4>;
 
-impl<T: Real> TraversalRay<T> {
+impl<T: Float> TraversalRay<T> {
     /// The slab test of [`TraversalRay::hit_box`] for the four children of `node` at
     /// once: per lane, whether the ray overlaps the box within `(t_min, t_max]`
     /// (conservatively) and the entry distance.
@@ -86,7 +88,7 @@ fn plane(node: &Node4, offset: usize) -> &[f32; WIDTH] {
     }
 }
 
-impl<T: Real> Box4Ray<T> {
+impl<T: Float> Box4Ray<T> {
     /// The prepared form of `ray`.
     #[inline(always)]
     pub fn new(ray: &TraversalRay<T>) -> Self {
@@ -104,8 +106,26 @@ impl<T: Real> Box4Ray<T> {
 
     /// The slab test of [`TraversalRay::hit_box`] for the four children of `node` at
     /// once: the hit lanes as bits (`1 << lane`) and each lane's entry distance.
+    ///
+    /// In `f32` on x86-64 the lanes are one SSE register ([`vecexpr::simd::F32x4`]);
+    /// elsewhere `vecexpr`'s plain-array packets. (In the any-hit walk of
+    /// [`crate::world::Scene::occluded`] the optimiser turned the plain-array form into
+    /// single-lane loads, shuffles and a lane-by-lane rebuild of the masks; the register
+    /// form took teapot-s12's shadow rays from 1,112 to 704 instructions a ray.)
     #[inline(always)]
     pub fn hit_bits(&self, node: &Node4, t_max: T) -> (u32, [T; WIDTH]) {
+        #[cfg(target_arch = "x86_64")]
+        if let Some(p) = T::AS_F32 {
+            let ray = T::to_f32::<Box4RayOf>(p, self);
+            let t_max = *T::to_f32::<ScalarOf>(p, &t_max);
+            return T::from_f32::<BitsOf>(p, ray.hit_bits_sse(node, t_max));
+        }
+        self.hit_bits_packets(node, t_max)
+    }
+
+    /// [`Box4Ray::hit_bits`] over `vecexpr`'s plain-array packets.
+    #[inline(always)]
+    fn hit_bits_packets(&self, node: &Node4, t_max: T) -> (u32, [T; WIDTH]) {
         let lanes = |v: &[f32; WIDTH]| P4::<T>::from_fn(|i| T::from_f64(f64::from(v[i])));
         let mut t_near = self.t_min;
         let mut t_far = P4::<T>::splat(t_max * self.slack);
@@ -127,6 +147,48 @@ impl<T: Real> Box4Ray<T> {
         }
         (bits, core::array::from_fn(|i| t_near.lane(i)))
     }
+}
+
+#[cfg(target_arch = "x86_64")]
+impl Box4Ray<f32> {
+    /// [`Box4Ray::hit_bits`] on SSE registers: the same operations in the same order
+    /// as [`Box4Ray::hit_bits_packets`], and `minps`/`maxps` are the NaN rule of
+    /// [`Scalar::min`]/[`Scalar::max`], so every lane is bit for bit the same.
+    #[inline(always)]
+    fn hit_bits_sse(&self, node: &Node4, t_max: f32) -> (u32, [f32; WIDTH]) {
+        use vecexpr::simd::{SimdF32, SimdMask};
+        type S = vecexpr::simd::F32x4;
+        let reg = |p: &P4<f32>| S::load(p.as_slice());
+        let mut t_near = reg(&self.t_min);
+        let mut t_far = S::splat(t_max * self.slack);
+        for a in 0..3 {
+            let near = S::load(plane(node, self.near[a]));
+            let far = S::load(plane(node, self.far[a]));
+            let o = reg(&self.origin[a]);
+            let tn = (near - o) * reg(&self.inv_dir[a]);
+            let tf = (far - o) * reg(&self.inv_far[a]);
+            t_near = Scalar::max(tn, t_near);
+            t_far = Scalar::min(tf, t_far);
+        }
+        let bits = t_near.le(t_far).bitmask();
+        let mut tn = [0.0; WIDTH];
+        t_near.store(&mut tn);
+        (bits, tn)
+    }
+}
+
+/// [`Family`]s of the types [`Box4Ray::hit_bits`] views as `f32`.
+struct Box4RayOf;
+impl Family for Box4RayOf {
+    type Of<T: Float> = Box4Ray<T>;
+}
+struct ScalarOf;
+impl Family for ScalarOf {
+    type Of<T: Float> = T;
+}
+struct BitsOf;
+impl Family for BitsOf {
+    type Of<T: Float> = (u32, [T; WIDTH]);
 }
 
 #[cfg(test)]

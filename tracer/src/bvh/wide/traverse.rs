@@ -5,8 +5,8 @@ use super::box_test::Box4Ray;
 use super::{Node4, STACK_SIZE, WIDTH};
 use crate::bvh::traverse::{LeafVisitor, TraversalRay};
 use crate::bvh::Bvh;
+use crate::float::Float;
 use core::mem::MaybeUninit;
-use vecexpr::Real;
 
 /// A pending subtree: child (node index or first reference), count (0 for an interior
 /// node) and entry distance.
@@ -28,7 +28,7 @@ impl Bvh {
     /// references and with [`super::Leaf::Grouped`] for one rewritten by
     /// `Bvh::regroup_wide_leaves`.
     #[inline(always)]
-    pub fn traverse4<T: Real, const ANY_HIT: bool>(
+    pub fn traverse4<T: Float, const ANY_HIT: bool>(
         &self,
         ray: &TraversalRay<T>,
         t_max: T,
@@ -41,7 +41,7 @@ impl Bvh {
     /// the packet traversal hands its rays over to it one by one where few rays of a
     /// packet remain ([`Bvh::traverse4_packet`]).
     #[inline(always)]
-    pub fn traverse4_from<T: Real, const ANY_HIT: bool>(
+    pub fn traverse4_from<T: Float, const ANY_HIT: bool>(
         &self,
         start: u32,
         ray: &TraversalRay<T>,
