@@ -4,8 +4,9 @@
 # packets trace) with packets, with each scheduler and in both precisions, with both
 # binaries, and compares the PFMs (linear floats) byte for byte. The scenes of
 # tracer/scenes are also rendered in SPD mode (corner rays) and with 2x2 supersampling
-# (single rays: `--packets on` is refused with it, as with f64). Prints each difference and the number of comparisons; exits 1 on a
-# difference.
+# (with `--packets off` and, in f32, `auto`: builds before 3 December traced
+# supersamples one ray at a time and refused `--packets on` with them). Prints each
+# difference and the number of comparisons; exits 1 on a difference.
 # Usage: tracer/scripts/same-images.sh OLD_BIN NEW_BIN
 #   e.g. tracer/scripts/same-images.sh /tmp/old/target/release/tracer target/release/tracer
 set -euo pipefail
@@ -42,6 +43,7 @@ for scene in "$root"/tracer/scenes/*.nff; do
       compare "$scene" --precision "$precision" --packets "$packets" --spd
     done
     compare "$scene" --precision "$precision" --packets off --aa 2
+    [ "$precision" = f32 ] && compare "$scene" --precision f32 --packets auto --aa 2
   done
 done
 echo "$n comparisons, $diff differences"

@@ -40,7 +40,7 @@
 //!
 //! Packets are `f32` lanes, so only `f32` scenes have them: the functions here take `f32`
 //! types, and generic renderers reach them through the proof [`crate::Float::AS_F32`].
-//! `f64` scenes and supersampling trace single rays. Off x86-64 there are no packets.
+//! `f64` scenes trace single rays. Off x86-64 there are no packets.
 
 use crate::camera::{Camera, Grid, Window};
 use crate::effects::{has, REFLECTION, REFRACTION, SHADOWS};

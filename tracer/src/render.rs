@@ -329,7 +329,7 @@ fn render_grid<T: Float, const FX: u32>(
     let limits = settings.limits::<T>();
     let a = settings.aa.max(1);
     let mut image = Image::new(region.width(), region.height());
-    let mut run = Run {
+    let run = Run {
         schedule: settings.schedule,
         threads: settings.threads,
         progress,
@@ -347,8 +347,6 @@ fn render_grid<T: Float, const FX: u32>(
         }
         return (image, counts);
     }
-    // Packets trace one ray per pixel centre only.
-    run.packets = None;
     let norm = T::from_f64(1.0 / (a as f64 * a as f64));
     let mut sums = vec![Vec3::<T>::zero(); size.0 * size.1];
     let mut counts = RayCounts::default();
@@ -458,7 +456,7 @@ pub fn accumulate_pass<T: Float>(
         scene,
         cam,
         limits: one.limits::<T>(),
-        // One sample per pixel is the pixel centre, which the packets trace.
+        // One sample per pixel is the pixel centre.
         grid: if a == 1 {
             Grid::Centers
         } else {
@@ -468,7 +466,7 @@ pub fn accumulate_pass<T: Float>(
                 a,
             }
         },
-        packets: packets_for::<T>(&one).filter(|_| a == 1),
+        packets: packets_for::<T>(&one),
         sums,
     };
     let counts = match T::AS_F32 {

@@ -269,15 +269,18 @@ fn images_are_identical_with_packets_on_or_off_and_across_isas() {
     let isas = isas("images");
     for name in shipped() {
         let s = scene(&name, &AccelOptions::default());
-        for spd in [false, true] {
+        // Pixel centres, SPD's corners, and a 3 x 3 grid of supersamples.
+        for (spd, aa) in [(false, 1), (true, 1), (false, 3)] {
             let off = Settings {
                 width: Some(37),
                 height: Some(29),
                 spd,
+                aa,
                 packets: Packets::Off,
                 ..Settings::default()
             };
-            assert_same_with_packets(&s, &off, &isas, &format!("{name} spd={spd}"));
+            let what = format!("{name} spd={spd} aa={aa}");
+            assert_same_with_packets(&s, &off, &isas, &what);
         }
     }
 }

@@ -292,12 +292,12 @@ impl PacketArgs {
 
 impl PacketArgs {
     /// Packets asked for by name (`--packets on` or a named `--isa`) where none are
-    /// traced, `f64` or supersampling (`aa` above 1), would be ignored, so they are an
-    /// error; `auto` and `off` always apply.
+    /// traced, in `f64`, would be ignored, so they are an error; `auto` and `off`
+    /// always apply.
     ///
     /// # Errors
     /// A message naming the option and why it cannot apply.
-    pub fn check_applies(&self, precision: Precision, aa: u32) -> Result<(), String> {
+    pub fn check_applies(&self, precision: Precision) -> Result<(), String> {
         let flag = if self.isa != "auto" {
             format!("--isa {}", self.isa)
         } else if self.packets == "on" {
@@ -308,11 +308,6 @@ impl PacketArgs {
         if precision == Precision::F64 {
             return Err(format!(
                 "{flag} has no effect with --precision f64 (packets trace f32 rays only)"
-            ));
-        }
-        if aa > 1 {
-            return Err(format!(
-                "{flag} has no effect with --aa {aa} (supersamples are traced one ray at a time)"
             ));
         }
         Ok(())

@@ -131,7 +131,7 @@ pub fn prepare(args: &BenchArgs) -> Result<Prepared, String> {
             ..AccelOptions::default()
         },
         packets: {
-            args.packets.check_applies(args.precision, 1)?;
+            args.packets.check_applies(args.precision)?;
             args.packets.packets()?
         },
     };

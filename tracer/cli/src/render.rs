@@ -299,8 +299,7 @@ pub fn prepare(args: &RenderArgs) -> Result<Prepared<'_>, String> {
     // next frames of a range, in the same directories, as each frame begins.
     let first = frames.as_ref().map(|f| f.1).or(tile.map(|(i, _)| i));
     let staged = stage(args, first)?;
-    args.packets
-        .check_applies(args.precision, if args.spd { 1 } else { args.aa })?;
+    args.packets.check_applies(args.precision)?;
     let packets = args.packets.packets()?;
     let schedule = args.schedule.schedule()?;
     let feedback = Feedback::new(Mode::for_stderr(args.quiet, args.progress));
