@@ -224,6 +224,8 @@ fn benchmark_mode_prints_the_median_frame_time() {
             "32",
             "--frames",
             "5",
+            "--aa",
+            "1",
             "--no-window",
         ])
         .output()
@@ -269,6 +271,10 @@ fn bad_input_is_one_line_and_status_2() {
                 "x.jpg".into(),
             ],
             "x.jpg: screenshot must end in .png".into(),
+        ),
+        (
+            vec!["--frames".into(), "2".into(), "--aa".into(), "3".into()],
+            "--aa 3 has no effect with --frames".into(),
         ),
         (
             vec![

@@ -61,9 +61,10 @@ pub struct ViewArgs {
     /// scene's aspect ratio (rounded).
     #[arg(long, value_parser = whole(1, 8192), allow_negative_numbers = true)]
     pub height: Option<u32>,
-    /// Antialiasing: a still image converges to an AA x AA grid of rays per pixel.
-    #[arg(long, default_value_t = 4, value_parser = whole(1, knobs::MAX_AA), allow_negative_numbers = true)]
-    pub aa: u32,
+    /// Antialiasing: a still image converges to an AA x AA grid of rays per pixel
+    /// (default 4; --frames renders one sample per pixel, so only 1 is taken with it).
+    #[arg(long, value_parser = whole(1, knobs::MAX_AA), allow_negative_numbers = true)]
+    pub aa: Option<u32>,
     /// Maximum ray depth (1 = eye rays only).
     #[arg(long, default_value_t = 5, value_parser = whole(1, knobs::MAX_DEPTH), allow_negative_numbers = true)]
     pub depth: u32,
@@ -105,7 +106,7 @@ impl ViewArgs {
     /// The knobs the viewer starts with.
     pub fn knobs(&self) -> Knobs {
         Knobs {
-            aa: self.aa,
+            aa: self.aa.unwrap_or(Knobs::default().aa),
             depth: self.depth,
             threshold: self.threshold,
             precision: self.precision,
@@ -135,6 +136,11 @@ pub(crate) struct Setup {
 pub fn run(args: &ViewArgs) -> Result<(), String> {
     if args.no_window && args.script.is_none() && args.frames.is_none() {
         return Err("--no-window needs --script or --frames".into());
+    }
+    if let (Some(_), Some(aa @ 2..)) = (args.frames, args.aa) {
+        return Err(format!(
+            "--aa {aa} has no effect with --frames (benchmark frames are one sample per pixel)"
+        ));
     }
     if let Some(p) = &args.screenshot {
         let ext = p
