@@ -220,13 +220,13 @@ impl Tri4<f32> {
     /// `Tri4::intersect_watertight` over the `f32` lanes `S` (four of them).
     #[inline(always)]
     fn intersect_lanes<S: SimdF32>(&self, r: &RayData<f32>, t_max: f32) -> Tri4Hits<f32> {
-        let s = &r.shear;
         let (a, b, c) = (
             relative(&self.v[0], r),
             relative(&self.v[1], r),
             relative(&self.v[2], r),
         );
-        let (sx, sy, sz) = (S::splat(s.sx), S::splat(s.sy), S::splat(s.sz));
+        // The ray's lanes are loaded, not splatted here (see `ShearLanes`).
+        let [sx, sy, sz] = r.lanes.s.map(|l| S::load(&l));
         let e = sheared_edges(&a, &b, &c, sx, sy);
         let zero = S::zero();
         let [u, v, w] = e.uvw;
@@ -280,11 +280,11 @@ pub(crate) fn triangle_packet<S: SimdF32>(
 /// One vertex of four triangles relative to the ray origin, in the sheared axis order.
 #[inline(always)]
 fn relative<S: SimdF32>(v: &[[f32; TRI4_LANES]; 3], r: &RayData<f32>) -> [S; 3] {
-    let s = &r.shear;
+    let (s, o) = (&r.shear, &r.lanes.origin);
     [
-        S::load(&v[s.kx]) - S::splat(r.origin[s.kx]),
-        S::load(&v[s.ky]) - S::splat(r.origin[s.ky]),
-        S::load(&v[s.kz]) - S::splat(r.origin[s.kz]),
+        S::load(&v[s.kx]) - S::load(&o[0]),
+        S::load(&v[s.ky]) - S::load(&o[1]),
+        S::load(&v[s.kz]) - S::load(&o[2]),
     ]
 }
 
