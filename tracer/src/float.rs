@@ -20,6 +20,13 @@ pub trait Family {
     type Of<T: Float>;
 }
 
+/// The [`Family`] of the precision itself: `ScalarOf::Of<T>` is `T`, for casting a
+/// single value.
+pub(crate) struct ScalarOf;
+impl Family for ScalarOf {
+    type Of<T: Float> = T;
+}
+
 /// A precision of the tracer: a [`Real`] that says whether it has the `f32`-only kernels.
 pub trait Float: Real {
     /// Proof that `Self` is `f32`: [`IsF32`] for `f32`, the uninhabited [`NotF32`] for

@@ -34,7 +34,7 @@
 //! every triangle.
 
 use super::ray_data::{PacketData, PacketShear, RayData};
-use crate::float::{Family, Float};
+use crate::float::{Family, Float, ScalarOf};
 use vecexpr::simd::{SimdF32, SimdMask};
 use vecexpr::{vec3, Expr, Mask, Real, Vec3};
 
@@ -411,10 +411,6 @@ impl Family for Tri4HitsOf {
 struct RayDataOf;
 impl Family for RayDataOf {
     type Of<T: Float> = RayData<T>;
-}
-struct ScalarOf;
-impl Family for ScalarOf {
-    type Of<T: Float> = T;
 }
 
 #[cfg(test)]

@@ -16,7 +16,7 @@
 
 use super::{Node4, WIDTH};
 use crate::bvh::traverse::TraversalRay;
-use crate::float::{Family, Float};
+use crate::float::{Family, Float, ScalarOf};
 use vecexpr::typenum::U4;
 use vecexpr::{Mask, Packet, Real, Scalar};
 
@@ -181,10 +181,6 @@ impl Box4Ray<f32> {
 struct Box4RayOf;
 impl Family for Box4RayOf {
     type Of<T: Float> = Box4Ray<T>;
-}
-struct ScalarOf;
-impl Family for ScalarOf {
-    type Of<T: Float> = T;
 }
 struct BitsOf;
 impl Family for BitsOf {
