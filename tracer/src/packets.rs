@@ -19,15 +19,16 @@
 //!    lane kernels do not cover (cones, planes, rays whose triangle shear axes differ,
 //!    edge functions exactly zero) are likewise tested by the single-ray kernels, lane
 //!    by lane ([`crate::geometry::packet_query`]).
-//! 3. `shadow_block` builds the shadow rays of the block's hits toward one light at a
-//!    time exactly as shading builds them (`shade::shadow_ray`) and traces
-//!    them as one any-hit packet; a ray leaves the packet at its first blocker.
-//! 4. Each hit is shaded by the single-ray code from its hit and its shadow bits
-//!    (`shade::shade_local`), which also makes its reflection and refraction rays.
-//! 5. **Secondary rays.** `radiance_tile` does steps 1 to 4 for a tile of 2x2 blocks,
-//!    then gathers the reflection and refraction rays of all the tile's hits, sorts
-//!    them by octant and traces them in full packets, generation after generation (the
-//!    shadow rays of these hits stay single, with the shadow cache). Last, each ray's
+//! 3. The hits are shaded by the single-ray shading's steps (`shade::Surface`), one
+//!    light at a time over the block (`shade_packet`): each hit's shadow ray toward the
+//!    light, built by `Surface::light_ray`, joins one any-hit packet (a ray leaves it
+//!    at its first blocker), and the hits it leaves unblocked add the light's terms.
+//! 4. Each hit then makes its reflection and refraction rays (`Surface::spawn`).
+//! 5. **Secondary rays.** `radiance_tile` does steps 1 to 4 for a tile of 4x4 blocks
+//!    (`TILE_SHAPE`), then gathers the reflection and refraction rays of all the
+//!    tile's hits, sorts them by octant and traces them in full packets, generation
+//!    after generation (the shadow rays of these hits stay single, with the shadow
+//!    cache). Last, each ray's
 //!    radiance is added to its parent's colour, in the order the recursive single-ray
 //!    shading adds it.
 //!
@@ -47,7 +48,7 @@ use crate::effects::{has, REFLECTION, REFRACTION, SHADOWS};
 use crate::geometry::kinds;
 use crate::ray::{Hit, Ray};
 use crate::settings::TraceLimits;
-use crate::shade::{shade_local, shadow_ray, shadow_start, trace_fx, Secondary};
+use crate::shade::{shade_local, trace_fx, Secondary, Surface};
 use crate::stats::RayCounts;
 use crate::world::Scene;
 use std::cell::Cell;
@@ -130,7 +131,7 @@ pub(crate) fn eye_block(
     (rays, hits)
 }
 
-/// Are the shadow rays of eye hits traced in packets ([`shadow_block`]) for `scene`?
+/// Are the shadow rays of eye hits traced in packets ([`shade_packet`]) for `scene`?
 /// When it has no cones: the packet kernels test spheres and triangles, while each ray
 /// of a packet meets a cone alone, by its single-ray test and without the shadow cache
 /// of single rays, which measured slower on rings-s7 (4,200 cylinders; see
@@ -139,41 +140,64 @@ pub(crate) fn shadow_packets(scene: &Scene<f32>) -> bool {
     scene.geometry.kinds() & kinds::CONES == 0
 }
 
-/// Lights whose shadow rays of eye hits are traced in packets ([`shadow_block`]); the
-/// shadow rays toward further lights stay single.
-pub(crate) const PACKET_LIGHTS: usize = 64;
-
-/// For each lane of a block of eye rays and their hits (as [`eye_block`] returns them),
-/// the lights whose shadow ray from the hit is blocked, bit `li` for light `li` (the
-/// first [`PACKET_LIGHTS`] lights): the shadow rays of the block toward one light, as
-/// shading builds them ([`crate::shade::shadow_ray`]), are traced as one any-hit packet
-/// of `isa`. Bits of lights a lane casts no shadow ray to are clear.
+/// Shades the hits of a packet: lane `k` holds ray `rays[k]` and its closest hit
+/// `hits[k]`, at ray depth `depth[k]` with accumulated weight `weight[k]`; `each(k,
+/// color, spawned, counts)` receives, lane by lane in order, the local colour of each
+/// hit and the secondary rays it spawns, as [`shade_local`] computes them.
+///
+/// With `packets`, the lanes are shaded by [`shade_local`]'s steps ([`Surface`]) one
+/// light at a time: each lane's shadow ray toward the light
+/// ([`Surface::light_ray`]) joins one any-hit packet of `isa`, and each lane the packet
+/// leaves unblocked adds the light's terms ([`Surface::add_light`]). Each lane still
+/// adds the ambient term, then the lights in order, then spawns its rays, so its
+/// values are [`shade_local`]'s bit for bit. Without `packets`, each lane is shaded by
+/// [`shade_local`] itself, its shadow rays traced singly with the shadow cache.
 ///
 /// # Panics
 /// If the CPU lacks `isa`.
-pub(crate) fn shadow_block(
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn shade_packet<const FX: u32>(
     scene: &Scene<f32>,
     isa: Isa,
     limits: &TraceLimits<f32>,
-    rays: &[Option<Ray<f32>>; MAX_LANES],
-    hits: &Block,
-) -> [u64; MAX_LANES] {
-    let mut blocked = [0u64; MAX_LANES];
-    let lights = scene.lights.len().min(PACKET_LIGHTS);
-    if lights == 0 {
-        return blocked;
+    packets: bool,
+    (rays, hits): (&[Option<Ray<f32>>; MAX_LANES], &Block),
+    (depth, weight): (&[u32; MAX_LANES], &[f32; MAX_LANES]),
+    counts: &mut RayCounts,
+    mut each: impl FnMut(usize, Vec3<f32>, [Option<Secondary<f32>>; 2], &mut RayCounts),
+) {
+    if !(packets && has(FX, SHADOWS)) {
+        for (k, (ray, hit)) in rays.iter().zip(hits).enumerate() {
+            if let (Some(ray), Some(hit)) = (ray, hit) {
+                let (color, spawned) =
+                    shade_local::<f32, FX>(scene, ray, hit, depth[k], weight[k], limits, counts);
+                each(k, color, spawned, counts);
+            }
+        }
+        return;
     }
-    let starts: [Option<_>; MAX_LANES] = core::array::from_fn(|l| match (&rays[l], &hits[l]) {
-        (Some(ray), Some(hit)) => Some((hit, shadow_start(ray, hit))),
-        _ => None,
-    });
-    for (li, light) in scene.lights.iter().enumerate().take(lights) {
+    // The surface of each lane's hit and its colour so far, filled in place
+    // (`core::array::from_fn` was compiled out of line here and copied the array out).
+    let mut lanes: [Option<(Surface<'_, f32>, Vec3<f32>)>; MAX_LANES] = [const { None }; MAX_LANES];
+    for ((lane, ray), hit) in lanes.iter_mut().zip(rays).zip(hits) {
+        if let (Some(ray), Some(hit)) = (ray, hit) {
+            let s = Surface::new(scene, ray, hit);
+            let color = s.ambient();
+            *lane = Some((s, color));
+        }
+    }
+    let ar = &limits.arith;
+    for light in &scene.lights {
         let mut packet = [None; MAX_LANES];
+        let mut dirs = [Vec3::zero(); MAX_LANES];
         let mut any = false;
-        for (p, s) in packet.iter_mut().zip(&starts) {
-            if let Some((hit, start)) = s {
-                if let Some(r) = shadow_ray(light, hit, start, limits) {
-                    *p = Some(r);
+        for (k, (lane, hit)) in lanes.iter().zip(hits).enumerate() {
+            if let (Some((s, _)), Some(hit)) = (lane, hit) {
+                if let Some((shadow, l)) = s.light_ray(light, hit, ar) {
+                    counts.shadow += 1;
+                    packet[k] = Some(shadow);
+                    dirs[k] = l;
                     any = true;
                 }
             }
@@ -181,12 +205,19 @@ pub(crate) fn shadow_block(
         if !any {
             continue;
         }
-        let b = scene.geometry.occluded_packet(isa, &packet);
-        for (m, &b) in blocked.iter_mut().zip(&b) {
-            *m |= u64::from(b) << li;
+        let blocked = scene.geometry.occluded_packet(isa, &packet);
+        for (k, lane) in lanes.iter_mut().enumerate() {
+            if let (Some(_), false, Some((s, color))) = (&packet[k], blocked[k], lane) {
+                s.add_light::<FX>(color, light, &dirs[k], ar);
+            }
         }
     }
-    blocked
+    for (k, lane) in lanes.iter().enumerate() {
+        if let (Some((s, color)), Some(ray), Some(hit)) = (lane, &rays[k], &hits[k]) {
+            let spawned = s.spawn::<FX>(ray, hit, depth[k], weight[k], limits, counts);
+            each(k, *color, spawned, counts);
+        }
+    }
 }
 
 /// One ray of the ray trees of a tile ([`radiance_tile`]).
@@ -214,8 +245,11 @@ const NODE_LIMIT: usize = 4096;
 /// Blocks of eye rays per tile of [`radiance_tile`]: [`TILE_SHAPE`] blocks across and
 /// down.
 pub(crate) const TILE: usize = TILE_SHAPE.0 * TILE_SHAPE.1;
-/// See [`TILE`].
-pub(crate) const TILE_SHAPE: (usize, usize) = (2, 2);
+/// See [`TILE`]. Four by four blocks (16x8 pixels with AVX2) gather more secondary rays
+/// of one octant into a packet than two by two did: the viewer's balls-s4 frames took
+/// 0.96 of the time (`tracer/RESULTS.md`, "Viewer frame rate"); eight by four and four
+/// by eight measured the same as four by four.
+pub(crate) const TILE_SHAPE: (usize, usize) = (4, 4);
 
 /// Block `b` of tile `tile`: `(TILE_SHAPE.0 * tile.0 + i, TILE_SHAPE.1 * tile.1 + j)`
 /// for `b = j * TILE_SHAPE.0 + i`.
@@ -233,12 +267,13 @@ fn tile_block(tile: (usize, usize), b: usize) -> (usize, usize) {
 ///
 /// Every ray of the tile's ray trees is traced in packets of `isa`, generation by
 /// generation: the eye rays block by block, with the shadow rays of their hits as one
-/// any-hit packet per light ([`shadow_block`]); then the reflection and refraction rays
+/// any-hit packet per light ([`shade_packet`]); then the reflection and refraction rays
 /// the hits spawn, gathered over the whole tile in the order of their parents into full
 /// packets, and so on down the generations. (The shadow rays of secondary hits stay
 /// single, where the shadow cache of [`crate::shade`] serves them: as packets they took
-/// 1.14 times the instructions of balls-s4's frame.) Each hit is shaded by the
-/// single-ray code ([`shade_local`]), and once the deepest generation is done each ray's
+/// 1.14 times the instructions of balls-s4's frame.) Each hit is shaded by the steps
+/// of the single-ray code ([`shade_local`]), and once the deepest generation is done
+/// each ray's
 /// radiance is added to its parent's colour, children before parents and the children
 /// of one hit in the order it spawned them, which is the order in which the recursive
 /// single-ray shading adds them. So the values and the ray counts are those of
@@ -263,18 +298,23 @@ pub(crate) fn radiance_tile<const FX: u32>(
         // Eye rays only: each hit shaded as its packet is done.
         for (b, out) in out.iter_mut().enumerate() {
             let (rays, hits) = eye_block(scene, cam, isa, grid, win, tile_block(tile, b));
-            let blocked = shadows.then(|| shadow_block(scene, isa, limits, &rays, &hits));
-            for (l, (ray, hit)) in rays.iter().zip(&hits).enumerate() {
-                let Some(ray) = ray else { continue };
-                counts.eye += 1;
-                out[l] = match hit {
-                    Some(hit) => {
-                        let cast = blocked.map(|b| b[l]);
-                        shade_local::<f32, FX>(scene, ray, hit, 1, 1.0, limits, counts, cast).0
-                    }
-                    None => scene.background,
-                };
+            for (o, ray) in out.iter_mut().zip(&rays) {
+                if ray.is_some() {
+                    counts.eye += 1;
+                    *o = scene.background;
+                }
             }
+            let at = (&[1; MAX_LANES], &[1.0; MAX_LANES]);
+            shade_packet::<FX>(
+                scene,
+                isa,
+                limits,
+                shadows,
+                (&rays, &hits),
+                at,
+                counts,
+                |k, color, _, _| out[k] = color,
+            );
         }
         return out;
     }
@@ -412,17 +452,17 @@ fn shade_generation<const FX: u32, const BEYOND: bool>(
     nodes: &mut Vec<Node>,
     counts: &mut RayCounts,
 ) {
-    let blocked = shadows.then(|| shadow_block(scene, isa, limits, rays, hits));
-    for (k, (ray, hit)) in rays.iter().zip(hits).enumerate() {
-        let (Some(ray), Some(hit)) = (ray, hit) else {
-            continue;
-        };
-        let i = index[k];
-        let depth = nodes[i].depth;
-        let weight = nodes[i].join.map_or(1.0, |s| s.weight);
-        let cast = blocked.map(|b| b[k]);
-        let (color, spawned) =
-            shade_local::<f32, FX>(scene, ray, hit, depth, weight, limits, counts, cast);
+    let mut depth = [0; MAX_LANES];
+    let mut weight = [0.0; MAX_LANES];
+    for (k, &i) in index.iter().enumerate() {
+        if let Some(n) = nodes.get(i) {
+            depth[k] = n.depth;
+            weight[k] = n.join.map_or(1.0, |s| s.weight);
+        }
+    }
+    let at = (&depth, &weight);
+    let each = |k: usize, color, spawned: [Option<Secondary<f32>>; 2], counts: &mut _| {
+        let (i, depth) = (index[k], depth[k]);
         nodes[i].color = color;
         let first = nodes.len();
         for s in spawned.into_iter().flatten() {
@@ -440,7 +480,8 @@ fn shade_generation<const FX: u32, const BEYOND: bool>(
             });
         }
         nodes[i].children = first..nodes.len();
-    }
+    };
+    shade_packet::<FX>(scene, isa, limits, shadows, (rays, hits), at, counts, each);
 }
 
 /// The eye rays through the pixel centres of an image, gathered into packets once, and

@@ -12,7 +12,7 @@ use crate::float::Float;
 use crate::geometry::{offset_ray, NO_HINT};
 use crate::ray::{Hit, Ray};
 use crate::stats::RayCounts;
-use crate::world::{Light, Scene};
+use crate::world::{Light, Material, Scene};
 
 pub use crate::settings::TraceLimits;
 use std::cell::Cell;
@@ -52,8 +52,7 @@ pub fn shade_fx<T: Float, const FX: u32>(
     counts: &mut RayCounts,
 ) -> Vec3<T> {
     // The local light, then each secondary ray traced and its radiance added in turn.
-    let (mut color, spawned) =
-        shade_local::<T, FX>(scene, ray, hit, depth, weight, limits, counts, None);
+    let (mut color, spawned) = shade_local::<T, FX>(scene, ray, hit, depth, weight, limits, counts);
     for s in spawned.iter().flatten() {
         let c = trace_fx::<T, FX>(scene, &s.ray, depth + 1, s.weight, limits, counts);
         s.add_to(&mut color, &c, &limits.arith);
@@ -76,53 +75,6 @@ fn facing<T: Real>(hit: &Hit<T>, d: &Vec3<T>) -> (bool, Vec3<T>, Vec3<T>) {
             (-&hit.shading_normal).eval(),
         )
     }
-}
-
-/// The shadow ray from `above` (the offset hit point) toward `light` and the unit
-/// direction to the light, or `None` when shading casts none: a light without
-/// intensity, at the point itself, or behind the surface of (faced) normal `ng`.
-#[inline(always)]
-fn light_ray<T: Real>(
-    light: &Light<T>,
-    p: &Vec3<T>,
-    ng: &Vec3<T>,
-    above: &Vec3<T>,
-    ar: &Arith,
-) -> Option<(Ray<T>, Vec3<T>)> {
-    if light.intensity.max_element() <= T::ZERO {
-        return None;
-    }
-    let to_light = (&light.position - p).eval();
-    let (l, dist) = ar.unit_and_length(&to_light);
-    if dist.is_nan() || dist <= T::ZERO || ng.dot(&l) <= T::ZERO {
-        return None;
-    }
-    let shadow = Ray {
-        t_max: dist,
-        ..Ray::new(*above, l)
-    };
-    Some((shadow, l))
-}
-
-/// Where the shading of `ray` at `hit` starts its shadow rays: the geometric normal
-/// faced toward the ray, and the hit point offset along it.
-#[inline]
-pub(crate) fn shadow_start<T: Real>(ray: &Ray<T>, hit: &Hit<T>) -> (Vec3<T>, Vec3<T>) {
-    let (_, ng, _) = facing(hit, &ray.dir);
-    let above = offset_ray(&hit.point, &ng, &ng);
-    (ng, above)
-}
-
-/// The shadow ray the shading at `hit` casts toward `light`, from `start`
-/// ([`shadow_start`]), exactly as [`shade_fx`] builds it; `None` when it casts none.
-#[inline]
-pub(crate) fn shadow_ray<T: Real>(
-    light: &Light<T>,
-    hit: &Hit<T>,
-    (ng, above): &(Vec3<T>, Vec3<T>),
-    limits: &TraceLimits<T>,
-) -> Option<Ray<T>> {
-    light_ray(light, &hit.point, ng, above, &limits.arith).map(|(r, _)| r)
 }
 
 /// A secondary ray spawned by the shading of a hit, and how its radiance joins the
@@ -153,15 +105,11 @@ impl<T: Real> Secondary<T> {
 }
 
 /// The local illumination at `hit` of `ray` (ambient and the lights, with their shadow
-/// rays) and the secondary rays it spawns, refraction first: what [`shade_fx`] computes
-/// before it traces them, and the rays it counts. `cast` holds the answers of shadow
-/// rays already traced (bit `li` for light `li < 64`, as
-/// [`crate::packets::shadow_block`] returns them); with
-/// `None`, or for further lights, each shadow ray is traced here. (An `Option` rather
-/// than a closure: the closure's body, the whole any-hit traversal, was compiled out of
-/// line and ran 29% more instructions per frame on balls-s4 with packets off,
-/// callgrind.) The colour of the hit is the local colour with the radiance of each
-/// secondary ray added in turn by [`Secondary::add_to`].
+/// rays, each traced here) and the secondary rays it spawns, refraction first: what
+/// [`shade_fx`] computes before it traces them, and the rays it counts. The colour of
+/// the hit is the local colour with the radiance of each secondary ray added in turn by
+/// [`Secondary::add_to`]. The steps are [`Surface`]'s, which the packet renderer takes
+/// one light at a time over a packet of hits ([`crate::packets`]).
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub(crate) fn shade_local<T: Float, const FX: u32>(
@@ -172,88 +120,182 @@ pub(crate) fn shade_local<T: Float, const FX: u32>(
     weight: T,
     limits: &TraceLimits<T>,
     counts: &mut RayCounts,
-    cast: Option<u64>,
 ) -> (Vec3<T>, [Option<Secondary<T>>; 2]) {
-    let m = &scene.materials[hit.material as usize];
-    let d = &ray.dir;
-    let (entering, ng, ns) = facing(hit, d);
-    let p = &hit.point;
-    let v = (-d).eval();
-    let ar = &limits.arith;
+    let s = Surface::new(scene, ray, hit);
+    let mut color = s.ambient();
+    s.add_lights::<FX>(&mut color, scene, hit, depth, limits, counts);
+    let spawned = s.spawn::<FX>(ray, hit, depth, weight, limits, counts);
+    (color, spawned)
+}
 
-    // Ambient.
-    let mut color = (&m.color).scale(m.ka).eval();
+/// The shading of one hit, step by step: [`Surface::ambient`], then for each light
+/// [`Surface::light_ray`] and, when its shadow ray is not blocked,
+/// [`Surface::add_light`], then [`Surface::spawn`] ([`shade_local`] in that order).
+pub(crate) struct Surface<'a, T: Real> {
+    m: &'a Material<T>,
+    /// Does the ray enter the surface?
+    entering: bool,
+    /// Geometric and shading normals, faced toward the ray.
+    ng: Vec3<T>,
+    ns: Vec3<T>,
+    /// Toward the viewer: the ray's direction reversed.
+    v: Vec3<T>,
+    /// Where shadow rays start: the hit point offset along `ng`.
+    above: Vec3<T>,
+}
 
-    // Direct light with shadow rays.
-    let above = offset_ray(p, &ng, &ng);
-    if has(FX, SHADOWS) {
+impl<'a, T: Real> Surface<'a, T> {
+    /// The surface of `scene` at `hit` of `ray`.
+    #[inline(always)]
+    pub(crate) fn new(scene: &'a Scene<T>, ray: &Ray<T>, hit: &Hit<T>) -> Self {
+        let (entering, ng, ns) = facing(hit, &ray.dir);
+        let above = offset_ray(&hit.point, &ng, &ng);
+        Self {
+            m: &scene.materials[hit.material as usize],
+            entering,
+            ng,
+            ns,
+            v: (-&ray.dir).eval(),
+            above,
+        }
+    }
+
+    /// The ambient term $K_a C$, where the colour starts.
+    #[inline(always)]
+    pub(crate) fn ambient(&self) -> Vec3<T> {
+        (&self.m.color).scale(self.m.ka).eval()
+    }
+
+    /// The shadow ray from the surface at `hit` toward `light` and the unit direction to
+    /// the light, or `None` when shading casts none: a light without intensity, at the
+    /// point itself, or behind the surface.
+    #[inline(always)]
+    pub(crate) fn light_ray(
+        &self,
+        light: &Light<T>,
+        hit: &Hit<T>,
+        ar: &Arith,
+    ) -> Option<(Ray<T>, Vec3<T>)> {
+        if light.intensity.max_element() <= T::ZERO {
+            return None;
+        }
+        let to_light = (&light.position - &hit.point).eval();
+        let (l, dist) = ar.unit_and_length(&to_light);
+        if dist.is_nan() || dist <= T::ZERO || self.ng.dot(&l) <= T::ZERO {
+            return None;
+        }
+        let shadow = Ray {
+            t_max: dist,
+            ..Ray::new(self.above, l)
+        };
+        Some((shadow, l))
+    }
+
+    /// Adds the terms of every light of `scene` whose shadow ray is not blocked to
+    /// `color` (with `FX`'s shadows), tracing each shadow ray singly, with the shadow
+    /// cache of the hit's ray depth `depth`.
+    #[inline(always)]
+    pub(crate) fn add_lights<const FX: u32>(
+        &self,
+        color: &mut Vec3<T>,
+        scene: &Scene<T>,
+        hit: &Hit<T>,
+        depth: u32,
+        limits: &TraceLimits<T>,
+        counts: &mut RayCounts,
+    ) where
+        T: Float,
+    {
+        if !has(FX, SHADOWS) {
+            return;
+        }
         for (li, light) in scene.lights.iter().enumerate() {
-            // No shadow ray toward a light without intensity, at the point, or behind
-            // the surface.
-            let Some((shadow, l)) = light_ray(light, p, &ng, &above, ar) else {
+            let Some((shadow, l)) = self.light_ray(light, hit, &limits.arith) else {
                 continue;
             };
             counts.shadow += 1;
-            let blocked = match cast {
-                Some(bits) if li < 64 => bits >> li & 1 != 0,
-                _ => occluded_cached::<T, FX>(scene, &shadow, depth, li),
-            };
-            if blocked {
-                continue;
+            if !occluded_cached::<T, FX>(scene, &shadow, depth, li) {
+                self.add_light::<FX>(color, light, &l, &limits.arith);
             }
-            let ndotl = ar.dot(&ns, &l).max(T::ZERO);
-            if m.kd > T::ZERO && ndotl > T::ZERO {
-                let c = (&m.color * &light.intensity).eval();
-                ar.add_scaled(&mut color, &c, m.kd * ndotl);
+        }
+    }
+
+    /// Adds the diffuse and highlight terms of `light`, seen along the unit direction
+    /// `l` ([`Surface::light_ray`]) by a shadow ray that nothing blocks, to `color`.
+    #[inline(always)]
+    pub(crate) fn add_light<const FX: u32>(
+        &self,
+        color: &mut Vec3<T>,
+        light: &Light<T>,
+        l: &Vec3<T>,
+        ar: &Arith,
+    ) {
+        let m = self.m;
+        let ndotl = ar.dot(&self.ns, l).max(T::ZERO);
+        if m.kd > T::ZERO && ndotl > T::ZERO {
+            let c = (&m.color * &light.intensity).eval();
+            ar.add_scaled(color, &c, m.kd * ndotl);
+        }
+        if has(FX, SPECULAR) && m.ks > T::ZERO {
+            // R = 2 N (N·L) - L, the mirror direction of the light.
+            let r = ar.reflect(&(-l).eval(), &self.ns);
+            let rv = ar.dot(&r, &self.v);
+            if rv > T::ZERO {
+                ar.add_scaled(color, &light.intensity, m.ks * ar.pow(rv, m.shine));
             }
-            if has(FX, SPECULAR) && m.ks > T::ZERO {
-                // R = 2 N (N·L) - L, the mirror direction of the light.
-                let r = ar.reflect(&(-&l).eval(), &ns);
-                let rv = ar.dot(&r, &v);
-                if rv > T::ZERO {
-                    ar.add_scaled(&mut color, &light.intensity, m.ks * ar.pow(rv, m.shine));
+        }
+    }
+
+    /// The secondary rays the hit spawns at `depth` with accumulated `weight`,
+    /// refraction first (total internal reflection moves its weight to the reflection
+    /// ray), counted in `counts`.
+    #[inline(always)]
+    pub(crate) fn spawn<const FX: u32>(
+        &self,
+        ray: &Ray<T>,
+        hit: &Hit<T>,
+        depth: u32,
+        weight: T,
+        limits: &TraceLimits<T>,
+        counts: &mut RayCounts,
+    ) -> [Option<Secondary<T>>; 2] {
+        let mut spawned = [None, None];
+        if !has(FX, REFLECTION | REFRACTION) || depth >= limits.max_depth {
+            return spawned;
+        }
+        let (m, d, p, ar) = (self.m, &ray.dir, &hit.point, &limits.arith);
+        let (ng, ns) = (&self.ng, &self.ns);
+        let mut kr = m.ks;
+        if has(FX, REFRACTION) && m.kt > T::ZERO {
+            let eta = if self.entering { m.ior.recip() } else { m.ior };
+            match d.refract(ns, eta) {
+                Some(t_dir) if wanted::<T, FX>(weight * m.kt, limits) => {
+                    counts.refraction += 1;
+                    let t_dir = ar.normalize(&t_dir);
+                    spawned[0] = Some(Secondary {
+                        ray: Ray::new(offset_ray(p, ng, &t_dir), t_dir),
+                        weight: weight * m.kt,
+                        k: m.kt,
+                        filter: Some(m.color),
+                    });
                 }
+                Some(_) => {}
+                None => kr += m.kt,
             }
         }
-    }
-
-    let mut spawned = [None, None];
-    if !has(FX, REFLECTION | REFRACTION) || depth >= limits.max_depth {
-        return (color, spawned);
-    }
-
-    // Secondary rays: refraction first, since total internal reflection moves its weight
-    // to the reflection ray.
-    let mut kr = m.ks;
-    if has(FX, REFRACTION) && m.kt > T::ZERO {
-        let eta = if entering { m.ior.recip() } else { m.ior };
-        match d.refract(&ns, eta) {
-            Some(t_dir) if wanted::<T, FX>(weight * m.kt, limits) => {
-                counts.refraction += 1;
-                let t_dir = ar.normalize(&t_dir);
-                spawned[0] = Some(Secondary {
-                    ray: Ray::new(offset_ray(p, &ng, &t_dir), t_dir),
-                    weight: weight * m.kt,
-                    k: m.kt,
-                    filter: Some(m.color),
-                });
-            }
-            Some(_) => {}
-            None => kr += m.kt,
+        let spawn_reflection = kr > T::ZERO || (limits.spd && m.kt > T::ZERO);
+        if has(FX, REFLECTION) && spawn_reflection && wanted::<T, FX>(weight * kr, limits) {
+            counts.reflection += 1;
+            let r_dir = ar.normalize(&ar.reflect(d, ns));
+            spawned[1] = Some(Secondary {
+                ray: Ray::new(offset_ray(p, ng, &r_dir), r_dir),
+                weight: weight * kr,
+                k: kr,
+                filter: None,
+            });
         }
+        spawned
     }
-    let spawn_reflection = kr > T::ZERO || (limits.spd && m.kt > T::ZERO);
-    if has(FX, REFLECTION) && spawn_reflection && wanted::<T, FX>(weight * kr, limits) {
-        counts.reflection += 1;
-        let r_dir = ar.normalize(&ar.reflect(d, &ns));
-        spawned[1] = Some(Secondary {
-            ray: Ray::new(offset_ray(p, &ng, &r_dir), r_dir),
-            weight: weight * kr,
-            k: kr,
-            filter: None,
-        });
-    }
-    (color, spawned)
 }
 
 /// Lights and ray depths with a shadow cache entry; shadow rays of others go uncached.
