@@ -351,10 +351,10 @@ fn viewer_passes_are_identical_with_packets_on_or_off() {
     }
 }
 
-/// Packets answer the shadow rays of the first 64 lights for a whole packet at once (one
-/// bit per light); the shading traces those of further lights one by one. A scene with
-/// 70 lights, some of them hidden from parts of the floor by the spheres, renders the
-/// same with packets on or off.
+/// Packets shade their hits one light at a time, each light's shadow rays as one any-hit
+/// packet, where single rays trace each hit's shadow rays in turn with the shadow cache
+/// (whose entries stop at eight lights). A scene with 70 lights, some of them hidden from
+/// parts of the floor by the spheres, renders the same with packets on or off.
 #[test]
 fn more_lights_than_a_packet_answers_give_the_same_image() {
     use tracer::scene::desc::MaterialDesc;
