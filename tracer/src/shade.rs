@@ -9,7 +9,7 @@
 use crate::arith::Arith;
 use crate::effects::{has, ADAPTIVE, REFLECTION, REFRACTION, SHADOWS, SPECULAR};
 use crate::float::Float;
-use crate::geometry::{offset_ray, NO_HINT};
+use crate::geometry::{offset_ray, offset_ray_from, NO_HINT};
 use crate::ray::{Hit, Ray};
 use crate::stats::RayCounts;
 use crate::world::{Light, Material, Scene};
@@ -273,7 +273,7 @@ impl<'a, T: Real> Surface<'a, T> {
                     counts.refraction += 1;
                     let t_dir = ar.normalize(&t_dir);
                     spawned[0] = Some(Secondary {
-                        ray: Ray::new(offset_ray(p, ng, &t_dir), t_dir),
+                        ray: Ray::new(offset_ray_from(p, ng, &self.above, &t_dir), t_dir),
                         weight: weight * m.kt,
                         k: m.kt,
                         filter: Some(m.color),
@@ -288,7 +288,7 @@ impl<'a, T: Real> Surface<'a, T> {
             counts.reflection += 1;
             let r_dir = ar.normalize(&ar.reflect(d, ns));
             spawned[1] = Some(Secondary {
-                ray: Ray::new(offset_ray(p, ng, &r_dir), r_dir),
+                ray: Ray::new(offset_ray_from(p, ng, &self.above, &r_dir), r_dir),
                 weight: weight * kr,
                 k: kr,
                 filter: None,

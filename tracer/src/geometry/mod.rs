@@ -105,7 +105,7 @@ pub mod triangle;
 pub use aabb::Aabb;
 pub use builder::GeometryBuilder;
 pub use cone::Cone;
-pub use offset::offset_ray;
+pub use offset::{offset_ray, offset_ray_from};
 pub use plane::Plane;
 pub use ray_data::MAX_LANES;
 pub use sphere::Sphere;

@@ -71,8 +71,11 @@ fn step_ulps<T: Real>(x: T, k: i32) -> T {
 /// ```
 #[inline]
 pub fn offset_ray<T: Real>(p: &Vec3<T>, n: &Vec3<T>, dir: &Vec3<T>) -> Vec3<T> {
-    let along = n[0] * dir[0] + n[1] * dir[1] + n[2] * dir[2];
-    let side = if along < T::ZERO { -T::ONE } else { T::ONE };
+    let side = if leaves_behind(n, dir) {
+        -T::ONE
+    } else {
+        T::ONE
+    };
     let origin = <T as Real>::from_f64(ORIGIN);
     let float_scale =
         <T as Real>::from_f64(FLOAT_SCALE_F32 * (T::EPSILON.to_f64() / f64::from(f32::EPSILON)));
@@ -92,6 +95,31 @@ pub fn offset_ray<T: Real>(p: &Vec3<T>, n: &Vec3<T>, dir: &Vec3<T>) -> Vec3<T> {
         out[i] = if use_near { near } else { stepped };
     }
     out
+}
+
+/// Does `dir` point to the side opposite to `n`? The one thing [`offset_ray`] reads from
+/// the direction.
+#[inline(always)]
+fn leaves_behind<T: Real>(n: &Vec3<T>, dir: &Vec3<T>) -> bool {
+    n[0] * dir[0] + n[1] * dir[1] + n[2] * dir[2] < T::ZERO
+}
+
+/// [`offset_ray`]`(p, n, dir)` given `front = offset_ray(p, n, n)`, the origin of rays
+/// leaving on the side `n` points to: the direction only picks the side, so a ray on
+/// that side starts at `front` and only one into the other side computes its origin.
+/// The same value as [`offset_ray`], bit for bit.
+#[inline(always)]
+pub fn offset_ray_from<T: Real>(
+    p: &Vec3<T>,
+    n: &Vec3<T>,
+    front: &Vec3<T>,
+    dir: &Vec3<T>,
+) -> Vec3<T> {
+    if leaves_behind(n, dir) {
+        offset_ray(p, n, dir)
+    } else {
+        *front
+    }
 }
 
 #[cfg(test)]
@@ -134,5 +162,27 @@ mod tests {
         let n = vec3(f32::NAN, 0.0, 0.0);
         let q = offset_ray(&vec3(1.0f32, 1.0, 1.0), &n, &n);
         assert!(q[0].is_nan());
+    }
+
+    #[test]
+    fn the_front_origin_serves_every_direction_on_its_side() {
+        let dirs = [
+            vec3(0.6f32, 0.8, 0.0),
+            vec3(-0.6, 0.8, 0.0),
+            vec3(0.0, 0.0, 1.0),
+            vec3(0.0, -1.0, 0.0),
+            vec3(f32::NAN, 0.0, 0.0),
+        ];
+        for p in [vec3(1.0e5f32, 0.01, -3.0), vec3(0.0, 2.0, 1.0e-3)] {
+            for n in [vec3(0.0f32, 1.0, 0.0), vec3(0.6, 0.0, -0.8)] {
+                let front = offset_ray(&p, &n, &n);
+                for d in &dirs {
+                    let a = offset_ray(&p, &n, d);
+                    let b = offset_ray_from(&p, &n, &front, d);
+                    let bits = |v: &Vec3<f32>| [0, 1, 2].map(|i| v[i].to_bits());
+                    assert_eq!(bits(&a), bits(&b), "{p:?} {n:?} {d:?}");
+                }
+            }
+        }
     }
 }
