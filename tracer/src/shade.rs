@@ -110,7 +110,6 @@ impl<T: Real> Secondary<T> {
 /// the hit is the local colour with the radiance of each secondary ray added in turn by
 /// [`Secondary::add_to`]. The steps are [`Surface`]'s, which the packet renderer takes
 /// one light at a time over a packet of hits ([`crate::packets`]).
-#[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub(crate) fn shade_local<T: Float, const FX: u32>(
     scene: &Scene<T>,
