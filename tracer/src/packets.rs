@@ -9,14 +9,14 @@
 //!    [`Grid::point`]) and traces them as one packet
 //!    ([`crate::geometry::Geometry::intersect_packet`], run by the kernel compiled for the chosen
 //!    instruction set through [`vecexpr::simd::Isa::dispatch`]). The packet walks the
-//!    four-wide BVH together ([`crate::bvh::packet_traverse`]); in a leaf, spheres and
-//!    triangles are tested against all its rays at once by the lane kernels that sit
-//!    beside the single-ray ones ([`crate::geometry::sphere`],
-//!    [`crate::geometry::triangle`]).
+//!    four-wide BVH together ([`crate::bvh::packet_traverse`]); in a leaf, spheres,
+//!    triangles and cones are tested against all its rays at once by the lane kernels
+//!    that sit beside the single-ray ones ([`crate::geometry::sphere`],
+//!    [`crate::geometry::triangle`], [`crate::geometry::cone`]).
 //! 2. **Hand-over.** Where at most two rays of a packet (four of sixteen) reach a
 //!    subtree, the packet hands them over: each continues alone with the single-ray
 //!    traversal of that subtree, keeping its closest hit so far. Rays and primitives the
-//!    lane kernels do not cover (cones, planes, rays whose triangle shear axes differ,
+//!    lane kernels do not cover (planes, rays whose triangle shear axes differ,
 //!    edge functions exactly zero) are likewise tested by the single-ray kernels, lane
 //!    by lane ([`crate::geometry::packet_query`]).
 //! 3. The hits are shaded by the single-ray shading's steps (`shade::Surface`), one
@@ -45,7 +45,6 @@
 
 use crate::camera::{Camera, Grid, Window};
 use crate::effects::{has, REFLECTION, REFRACTION, SHADOWS};
-use crate::geometry::kinds;
 use crate::ray::{Hit, Ray};
 use crate::settings::TraceLimits;
 use crate::shade::{shade_local, trace_fx, Secondary, Surface};
@@ -131,15 +130,6 @@ pub(crate) fn eye_block(
     (rays, hits)
 }
 
-/// Are the shadow rays of eye hits traced in packets ([`shade_packet`]) for `scene`?
-/// When it has no cones: the packet kernels test spheres and triangles, while each ray
-/// of a packet meets a cone alone, by its single-ray test and without the shadow cache
-/// of single rays, which measured slower on rings-s7 (4,200 cylinders; see
-/// `tracer/RESULTS.md`, "Packets on triangle scenes and shadow packets").
-pub(crate) fn shadow_packets(scene: &Scene<f32>) -> bool {
-    scene.geometry.kinds() & kinds::CONES == 0
-}
-
 /// Shades the hits of a packet: lane `k` holds ray `rays[k]` and its closest hit
 /// `hits[k]`, at ray depth `depth[k]` with accumulated weight `weight[k]`; `each(k,
 /// color, spawned, counts)` receives, lane by lane in order, the local colour of each
@@ -150,8 +140,9 @@ pub(crate) fn shadow_packets(scene: &Scene<f32>) -> bool {
 /// ([`Surface::light_ray`]) joins one any-hit packet of `isa`, and each lane the packet
 /// leaves unblocked adds the light's terms ([`Surface::add_light`]). Each lane still
 /// adds the ambient term, then the lights in order, then spawns its rays, so its
-/// values are [`shade_local`]'s bit for bit. Without `packets`, each lane is shaded by
-/// [`shade_local`] itself, its shadow rays traced singly with the shadow cache.
+/// values are [`shade_local`]'s bit for bit. Without `packets` (or without shadows),
+/// each lane is shaded by [`shade_local`] itself, its shadow rays traced singly with
+/// the shadow cache.
 ///
 /// # Panics
 /// If the CPU lacks `isa`.
@@ -293,7 +284,6 @@ pub(crate) fn radiance_tile<const FX: u32>(
     counts: &mut RayCounts,
 ) -> [[Vec3<f32>; MAX_LANES]; TILE] {
     let mut out = [[Vec3::zero(); MAX_LANES]; TILE];
-    let shadows = has(FX, SHADOWS) && shadow_packets(scene);
     if !has(FX, REFLECTION | REFRACTION) {
         // Eye rays only: each hit shaded as its packet is done.
         for (b, out) in out.iter_mut().enumerate() {
@@ -309,7 +299,7 @@ pub(crate) fn radiance_tile<const FX: u32>(
                 scene,
                 isa,
                 limits,
-                shadows,
+                true,
                 (&rays, &hits),
                 at,
                 counts,
@@ -342,7 +332,7 @@ pub(crate) fn radiance_tile<const FX: u32>(
     let mut start = nodes.len();
     for (index, (rays, hits)) in eye.iter().zip(&packets) {
         shade_generation::<FX, false>(
-            scene, isa, limits, shadows, rays, hits, index, &mut nodes, counts,
+            scene, isa, limits, true, rays, hits, index, &mut nodes, counts,
         );
     }
     let mut order = ORDER.take();
@@ -438,7 +428,9 @@ fn by_octant(nodes: &[Node], first: usize, order: &mut Vec<usize>) {
 /// becomes the local colour of its hit, or the background, and the secondary rays the
 /// hit spawns are appended to `nodes`: to be traced with the next generation, or with
 /// `BEYOND` (no room left under [`NODE_LIMIT`]) traced at once by the single-ray
-/// recursion, their radiance in the node.
+/// recursion, their radiance in the node. With `shadows` (the eye rays' generation)
+/// the hits' shadow rays go in packets ([`shade_packet`]); the later generations trace
+/// theirs singly, with the shadow cache, which measured faster on balls-s4.
 #[allow(clippy::too_many_arguments)]
 #[inline]
 fn shade_generation<const FX: u32, const BEYOND: bool>(

@@ -20,15 +20,15 @@
 //! axis rather than from the origin: a distant origin makes $\rho$ and $w_\perp$ large,
 //! and then the three terms of the discriminant cancel even with the identity above.
 //!
-//! There is a single-ray kernel only: the packet queries ([`super::packet_query`]) test a
-//! cone with it lane by lane. A lane version would be a second source of this kernel
-//! (its range tests and single root for $A = 0$ branch per ray) for a primitive only
-//! one classic scene has (rings-s7), whose shadow rays stay single anyway
-//! (`crate::packets::shadow_packets`).
+//! The single-ray test and its lane version (`cone_packet`, one cone against a packet of
+//! rays, for [`super::packet_query`]) sit side by side below, the same operations in the
+//! same order, as the sphere's do: the single ray leaves at a negative discriminant and
+//! at the first root in range, while the lanes compute both roots and select.
 
-use super::ray_data::RayData;
+use super::ray_data::{PacketData, RayData};
 use crate::ray::Ray;
-use vecexpr::{Expr, Real, Vec3};
+use vecexpr::simd::SimdF32;
+use vecexpr::{vec3, Expr, Mask, Real, Vec3};
 
 /// A cone or cylinder as the traversal sees it (36 bytes in `f32`).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -184,6 +184,51 @@ impl<T: Real> Cone<T> {
     }
 }
 
+/// [`Cone::intersect`] in every lane: the lanes with a hit in `(t_min, t_max]`, and their
+/// distances. Each step is the single ray's, over the lanes; where the single ray
+/// returns early (a negative or NaN discriminant, the near root in range) the lanes
+/// compute on and select.
+#[inline(always)]
+pub(crate) fn cone_packet<S: SimdF32>(c: &Cone<f32>, r: &PacketData<S>, t_max: S) -> (S::Mask, S) {
+    let splat3 = |v: &Vec3<f32>| vec3(S::splat(v[0]), S::splat(v[1]), S::splat(v[2]));
+    let k = S::splat(c.slope);
+    let axis = splat3(&c.axis);
+    let w0 = (r.origin - splat3(&c.base)).eval();
+    let mid = splat3(&(&c.axis).scale(c.height * 0.5).eval());
+    let t_c = (mid - &w0).dot(&r.dir) * r.inv_dd;
+    let w = (w0 + (&r.dir).scale(t_c)).eval();
+    let ws = w.dot(&axis);
+    let ds = r.dir.dot(&axis);
+    let wp = (w - (&axis).scale(ws)).eval();
+    let dp = (r.dir - (&axis).scale(ds)).eval();
+    let rho = S::splat(c.base_radius) + k * ws;
+    let dpdp = dp.length_squared();
+    let wpwp = wp.length_squared();
+    let wpdp = wp.dot(&dp);
+    let kds = k * ds;
+    let cr = wp.cross(&dp);
+    let disc =
+        rho * rho * dpdp - cr.length_squared() + kds * (kds * wpwp - S::splat(2.0) * rho * wpdp);
+    // `disc < 0 || disc.is_nan()` rejects exactly the lanes where `disc >= 0` is false.
+    let real = disc.ge(S::zero());
+    let a = dpdp - kds * kds;
+    let b = wpdp - kds * rho;
+    let cc = wpwp - rho * rho;
+    let q = -(b + disc.sqrt().copysign(b));
+    let (t0, t1) = (q / a, cc / q);
+    let swap = t1.lt(t0);
+    let (near, far) = (S::select(swap, t1, t0), S::select(swap, t0, t1));
+    let (zero, height) = (S::zero(), S::splat(c.height));
+    let (t_near, t_far) = (t_c + near, t_c + far);
+    let (s_near, s_far) = (ws + near * ds, ws + far * ds);
+    let near_ok =
+        (t_near.gt(r.t_min).and(t_near.le(t_max))).and(s_near.ge(zero).and(s_near.le(height)));
+    let far_ok = (t_far.gt(r.t_min).and(t_far.le(t_max))).and(s_far.ge(zero).and(s_far.le(height)));
+    (
+        real.and(near_ok.or(far_ok)),
+        S::select(near_ok, t_near, t_far),
+    )
+}
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -263,5 +308,124 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// `cone_packet` gives every lane the single-ray answer bit for bit, for each
+    /// instruction set of the CPU: cylinders and cones (one a tip at the apex, one with a
+    /// large offset from the origin), rays from outside, from inside, along the axis,
+    /// parallel to a generator line, grazing, with short `t_max` and `t_min`.
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn lanes_are_the_single_ray_answers() {
+        use crate::geometry::ray_data::MAX_LANES;
+        use vecexpr::simd::{Isa, Kernel, SimdMask};
+
+        struct Lanes<'a> {
+            cone: &'a Cone<f32>,
+            rays: &'a [RayData<f32>],
+            t_max: f32,
+        }
+        impl Kernel for Lanes<'_> {
+            type Output = Vec<Option<f32>>;
+            fn run<S: SimdF32>(self) -> Self::Output {
+                let mut out = Vec::new();
+                for chunk in self.rays.chunks(S::LANES) {
+                    let row = |f: &dyn Fn(&RayData<f32>) -> f32| {
+                        let mut v = [0.0f32; MAX_LANES];
+                        for (l, slot) in v.iter_mut().enumerate().take(S::LANES) {
+                            *slot = f(&chunk[l.min(chunk.len() - 1)]);
+                        }
+                        S::load(&v)
+                    };
+                    let pd = PacketData {
+                        origin: vec3(
+                            row(&|r| r.origin[0]),
+                            row(&|r| r.origin[1]),
+                            row(&|r| r.origin[2]),
+                        ),
+                        dir: vec3(row(&|r| r.dir[0]), row(&|r| r.dir[1]), row(&|r| r.dir[2])),
+                        t_min: row(&|r| r.t_min),
+                        dd: row(&|r| r.dd),
+                        inv_dd: row(&|r| r.inv_dd),
+                        shear: None,
+                    };
+                    let (hit, t) = cone_packet(self.cone, &pd, S::splat(self.t_max));
+                    let bits = hit.bitmask();
+                    let mut ts = [0.0f32; MAX_LANES];
+                    t.store(&mut ts);
+                    for (l, &t) in ts.iter().enumerate().take(chunk.len()) {
+                        out.push((bits >> l & 1 == 1).then_some(t));
+                    }
+                }
+                out
+            }
+        }
+
+        let cones = [
+            Cone::new(vec3(0.0f32, 0.0, 0.0), 1.0, vec3(0.0, 0.0, 2.0), 1.0).unwrap(),
+            Cone::new(vec3(0.0f32, 0.0, 0.0), 1.0, vec3(0.0, 0.0, 1.0), 0.0).unwrap(),
+            Cone::new(vec3(1.0f32, -2.0, 0.5), 0.3, vec3(2.0, 1.0, 3.0), 0.7).unwrap(),
+            Cone::new(
+                vec3(1e4f32, 3e3, -2e3),
+                0.05,
+                vec3(1e4, 3e3 + 1.0, -2e3),
+                0.05,
+            )
+            .unwrap(),
+        ];
+        let mut rays = Vec::new();
+        let mut push = |o: Vec3<f32>, d: Vec3<f32>, t_min: f32| {
+            if let Some(r) = RayData::new(&Ray {
+                t_min,
+                ..Ray::new(o, d)
+            }) {
+                rays.push(r);
+            }
+        };
+        for c in &cones {
+            let mid = (c.base + (&c.axis).scale(c.height * 0.5)).eval();
+            let tip = (c.base + (&c.axis).scale(c.height)).eval();
+            // Along the axis, and parallel to a generator line of the 45° cone.
+            push((c.base - &c.axis).eval(), c.axis, 0.0);
+            push(vec3(0.5, 0.0, -0.5), vec3(-1.0, 0.0, 1.0), 0.0);
+            push(tip, (-&c.axis).eval(), 0.0);
+            for i in 0..200 {
+                let f = i as f32;
+                let d = vec3((f * 1.7).sin(), (f * 2.3).cos(), (f * 0.9).sin());
+                let far = (mid - (&d).scale(3.0 + f)).eval();
+                push(far, d, 0.0);
+                push(mid, d, 0.0);
+                push(far, d, 2.0 + 0.02 * f);
+                // Grazing: aimed at a point on the rim's circle and a little beside it.
+                let off = vec3((f * 0.37).cos(), (f * 0.37).sin(), 0.0);
+                let rim =
+                    (c.base + (&off).scale(c.base_radius * (1.0 + 1e-6 * (f - 100.0)))).eval();
+                push(far, (rim - &far).eval(), 0.0);
+            }
+        }
+        let mut hits = 0;
+        for isa in Isa::available() {
+            for c in &cones {
+                for t_max in [f32::MAX, 3.0] {
+                    let got = isa.dispatch(Lanes {
+                        cone: c,
+                        rays: &rays,
+                        t_max,
+                    });
+                    for (r, g) in rays.iter().zip(&got) {
+                        let want = c.intersect(r, t_max);
+                        assert_eq!(
+                            g.map(f32::to_bits),
+                            want.map(f32::to_bits),
+                            "{isa} {c:?} {:?} {:?}",
+                            r.origin,
+                            r.dir
+                        );
+                        hits += usize::from(want.is_some());
+                    }
+                }
+            }
+        }
+        assert!(hits > 1000, "{hits} hits");
     }
 }

@@ -4,13 +4,14 @@
 //! The packet walks the BVH together ([`crate::bvh::packet_traverse`]: the four-wide
 //! tree, handing its rays over to their single-ray traversal of a subtree where at most
 //! two of them (four of sixteen) reach it, or the binary tree with `--binary-bvh`;
-//! without a BVH it meets every primitive); in a leaf, spheres and triangles are tested
-//! against every ray of the packet at once with the formulas of the single-ray kernels
-//! ([`super::sphere`], [`super::triangle`]) written over the lane type, operation for
-//! operation and in the same order (no fused multiply-add where the scalar code has
-//! none), so each lane computes exactly the single ray's value. What the packet kernels
+//! without a BVH it meets every primitive); in a leaf, spheres, triangles and cones are
+//! tested against every ray of the packet at once with the formulas of the single-ray
+//! kernels ([`super::sphere`], [`super::triangle`], [`super::cone`]) written over the
+//! lane type, operation for operation and in the same order (no fused multiply-add
+//! where the scalar code has none), so each lane computes exactly the single ray's
+//! value. What the packet kernels
 //! do not cover runs the single-ray kernel for each ray concerned:
-//! - cones and planes;
+//! - planes;
 //! - triangles when the rays' watertight shear axes differ (the axis of largest
 //!   direction component), and the rays whose edge functions are exactly zero, which
 //!   the single-ray test recomputes in `f64`;
@@ -40,10 +41,11 @@
 //! hand-over, which is the single-ray query's own walk (`RayQuery::wide_from`) from the
 //! node handed over.
 
+use super::cone::cone_packet;
 use super::query::{Query, RayQuery};
 use super::ray_data::{PacketData, PacketShear, RayData, Shear, MAX_LANES};
 use super::sphere::sphere_packet;
-use super::storage::{make_ref, INDEX_MASK, SPHERE, TAG_SHIFT, TRIANGLE};
+use super::storage::{make_ref, CONE, INDEX_MASK, SPHERE, TAG_SHIFT, TRIANGLE};
 use super::triangle::{triangle_packet, TRI4_LANES};
 use super::{kinds, Best, Geometry, TriangleTest, NO_HIT};
 use crate::bvh::packet_traverse::{PacketRay, PacketVisitor};
@@ -286,17 +288,12 @@ impl Geometry<f32> {
         let pd = &su.pd;
         match r >> TAG_SHIFT {
             SPHERE => {
-                let (hit, t) = sphere_packet(&self.prims.spheres[i], pd, t_max);
-                let bits = hit.bitmask() & m;
-                if bits == 0 {
-                    return t_max;
-                }
-                let mut ts = [0.0f32; MAX_LANES];
-                t.store(&mut ts);
-                each_lane(bits, |l| {
-                    self.offer(&mut best[l], r, (ts[l], 0.0, 0.0));
-                });
-                S::select(S::Mask::from_bitmask(bits), t, t_max)
+                let hits = sphere_packet(&self.prims.spheres[i], pd, t_max);
+                self.offer_lanes(r, m, hits, best, t_max)
+            }
+            CONE => {
+                let hits = cone_packet(&self.prims.cones[i], pd, t_max);
+                self.offer_lanes(r, m, hits, best, t_max)
             }
             TRIANGLE => {
                 let Some(sh) = &pd.shear else {
@@ -334,6 +331,29 @@ impl Geometry<f32> {
                 }
             }
         }
+    }
+
+    /// Offers the hits `(hit, t)` of primitive `r` (a sphere or a cone: no barycentrics)
+    /// in the lanes `m` to their records; the lanes' new `t_max`.
+    #[inline(always)]
+    fn offer_lanes<S: SimdF32>(
+        &self,
+        r: u32,
+        m: u32,
+        (hit, t): (S::Mask, S),
+        best: &mut [Best<f32>; MAX_LANES],
+        t_max: S,
+    ) -> S {
+        let bits = hit.bitmask() & m;
+        if bits == 0 {
+            return t_max;
+        }
+        let mut ts = [0.0f32; MAX_LANES];
+        t.store(&mut ts);
+        each_lane(bits, |l| {
+            self.offer(&mut best[l], r, (ts[l], 0.0, 0.0));
+        });
+        S::select(S::Mask::from_bitmask(bits), t, t_max)
     }
 
     /// The single-ray test and offer of primitive `r` for the lanes in `bits`; whether
@@ -415,6 +435,10 @@ impl Geometry<f32> {
         match r >> TAG_SHIFT {
             SPHERE => {
                 let (hit, _) = sphere_packet(&self.prims.spheres[i], pd, su.t_limit);
+                hit.bitmask() & m
+            }
+            CONE => {
+                let (hit, _) = cone_packet(&self.prims.cones[i], pd, su.t_limit);
                 hit.bitmask() & m
             }
             TRIANGLE => match &pd.shear {
