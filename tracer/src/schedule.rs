@@ -54,7 +54,13 @@ where
     V: Copy + Default + Send,
     F: Fn(usize, usize, &mut RayCounts) -> V + Sync,
 {
-    let mut out = vec![V::default(); w * h];
+    // Filled in parallel, so that the pages of a large grid are first touched on every
+    // thread rather than one after the other.
+    let mut out: Vec<V> = (0..w * h)
+        .into_par_iter()
+        .with_min_len(page_work::<V>())
+        .map(|_| V::default())
+        .collect();
     if w == 0 || h == 0 {
         return (out, RayCounts::default());
     }
@@ -155,24 +161,28 @@ where
     (out, counts)
 }
 
-/// Runs `run` with the thread count `threads` (`None`: the current pool). The rayon
-/// scheduler gets a pool of that many threads; the others start their own threads.
+/// Runs `run` with the thread count `threads` (`None`: the current pool) on a rayon
+/// pool of that many threads: the rayon scheduler traces on it, the others start their
+/// own threads for the tracing, and the render's parallel set-up and gathering of the
+/// values ([`for_each_mut`], the image's own loops) run on it.
 ///
 /// # Panics
 /// If a thread pool with the requested number of threads cannot be created.
-pub fn with_threads<R: Send>(
-    schedule: Schedule,
-    threads: Option<usize>,
-    run: impl FnOnce() -> R + Send,
-) -> R {
+pub fn with_threads<R: Send>(threads: Option<usize>, run: impl FnOnce() -> R + Send) -> R {
     match threads {
-        Some(n) if schedule.scheduler == Scheduler::Rayon => rayon::ThreadPoolBuilder::new()
+        Some(n) => rayon::ThreadPoolBuilder::new()
             .num_threads(n.max(1))
             .build()
             .expect("cannot create the rendering thread pool")
             .install(run),
         _ => run(),
     }
+}
+
+/// Items of type `V` per parallel task when a large buffer is filled or copied: 256 KiB
+/// (64 pages), so that the tasks stay few.
+pub fn page_work<V>() -> usize {
+    (256 * 1024 / core::mem::size_of::<V>().max(1)).max(1)
 }
 
 /// Runs `f(i, &mut items[i])` for every item on the current rayon pool, in tasks of at
