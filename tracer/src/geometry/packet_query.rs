@@ -19,10 +19,10 @@
 //!
 //! The rays are set up over the lanes (the values the single-ray kernels precompute per
 //! ray, computed with the same operations in SIMD registers); a ray's own scalar record
-//! is made only when one of its single-ray kernels needs it. That, against making every ray's record and moving it
-//! into lanes, cut the instructions of eye packets by 9 to 22 % on five classic scenes
-//! (1.8 and 4.4 % more on rings-s7 and tree-s11, whose cylinders need every ray's
-//! record; `tracer/RESULTS.md`).
+//! is made only when one of its single-ray kernels needs it. That, against making every
+//! ray's record and moving it into lanes, cut the instructions of eye packets by 9 to
+//! 22 % on five classic scenes (1.8 and 4.4 % more on rings-s7 and tree-s11, whose
+//! cylinders then needed every ray's record; `tracer/JOURNAL.md`).
 //!
 //! Every hit is offered to the ray's closest-hit record in the single-ray way (closer,
 //! or as close and earlier in the input), which makes the result independent of the
