@@ -653,10 +653,16 @@ impl<T: Float> Geometry<T> {
         limit: T,
     ) -> Option<u32> {
         match l {
-            Leaf::Refs(refs) => refs
-                .iter()
-                .copied()
-                .find(|&r| self.test::<WATERTIGHT, KINDS>(r, rd, limit).is_some()),
+            // A plain loop: `Iterator::find` here was compiled into an out-of-line
+            // `try_fold` that held balls-s4's sphere tests (6 % of a render's samples).
+            Leaf::Refs(refs) => {
+                for &r in refs {
+                    if self.test::<WATERTIGHT, KINDS>(r, rd, limit).is_some() {
+                        return Some(r);
+                    }
+                }
+                None
+            }
             Leaf::Grouped { child, count } => {
                 self.any_grouped::<WATERTIGHT, KINDS>(child, count, rd, limit)
             }
