@@ -9,8 +9,8 @@
 //! kernels ([`super::sphere`], [`super::triangle`], [`super::cone`]) written over the
 //! lane type, operation for operation and in the same order (no fused multiply-add
 //! where the scalar code has none), so each lane computes exactly the single ray's
-//! value. What the packet kernels
-//! do not cover runs the single-ray kernel for each ray concerned:
+//! value. What the packet kernels do not cover runs the single-ray kernel for each ray
+//! concerned:
 //! - planes;
 //! - triangles when the rays' watertight shear axes differ (the axis of largest
 //!   direction component), and the rays whose edge functions are exactly zero, which
