@@ -19,7 +19,7 @@ use crate::effects::{self, has, EffectChoice, EffectFn, EffectSet, EffectsMode, 
 use crate::float::{Family, Float};
 use crate::image::Image;
 use crate::packets::{block_shape, radiance_tile, MAX_LANES, TILE, TILE_SHAPE};
-use crate::schedule::{for_each_point, page_work, with_threads, Progress};
+use crate::schedule::{filled, for_each_mut, for_each_point, page_work, with_threads, Progress};
 use crate::settings::TraceLimits;
 use crate::shade::trace_fx;
 use crate::stats::RayCounts;
@@ -288,11 +288,7 @@ fn scatter<V: Copy + Default + Send + Sync>(
 ) -> Vec<V> {
     let (tw, th) = (bw * TILE_SHAPE.0, bh * TILE_SHAPE.1);
     let ntx = w.div_ceil(tw);
-    let mut out: Vec<V> = (0..w * h)
-        .into_par_iter()
-        .with_min_len(page_work::<V>())
-        .map(|_| V::default())
-        .collect();
+    let mut out: Vec<V> = filled(w * h);
     if w == 0 {
         return out;
     }
@@ -357,12 +353,9 @@ fn render_grid<T: Float, const FX: u32>(
             eye_radiance::<T, FX>(scene, &cam, Grid::Centers, win, &limits, &run);
         progress.finish();
         let zero = Vec3::<T>::zero();
-        image
-            .pixels
-            .par_iter_mut()
-            .zip(values.par_iter())
-            .with_min_len(page_work::<[f32; 3]>())
-            .for_each(|(p, c)| *p = to_rgb(&(&zero + c).eval()));
+        for_each_mut(&mut image.pixels, page_work::<[f32; 3]>(), |i, p| {
+            *p = to_rgb(&(&zero + &values[i]).eval());
+        });
         return (image, counts);
     }
     let norm = T::from_f64(1.0 / (a as f64 * a as f64));

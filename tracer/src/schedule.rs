@@ -1,7 +1,7 @@
 //! All the threading of the tracer: the three schedulers that spread a grid of work over
 //! threads ([`for_each_point`]), the thread pool of a render ([`with_threads`]), a
-//! parallel loop over a slice ([`for_each_mut`]) and the [`Progress`] the workers report
-//! to.
+//! parallel loop over a slice ([`for_each_mut`]), a parallel fill ([`filled`]) and the
+//! [`Progress`] the workers report to.
 //!
 //! The schedulers ([`Scheduler`]): rayon's work stealing over rows (like TBB), a static
 //! partition into one contiguous block of rows per thread over `std::thread::scope` (like
@@ -54,13 +54,7 @@ where
     V: Copy + Default + Send,
     F: Fn(usize, usize, &mut RayCounts) -> V + Sync,
 {
-    // Filled in parallel, so that the pages of a large grid are first touched on every
-    // thread rather than one after the other.
-    let mut out: Vec<V> = (0..w * h)
-        .into_par_iter()
-        .with_min_len(page_work::<V>())
-        .map(|_| V::default())
-        .collect();
+    let mut out: Vec<V> = filled(w * h);
     if w == 0 || h == 0 {
         return (out, RayCounts::default());
     }
@@ -183,6 +177,17 @@ pub fn with_threads<R: Send>(threads: Option<usize>, run: impl FnOnce() -> R + S
 /// (64 pages), so that the tasks stay few.
 pub fn page_work<V>() -> usize {
     (256 * 1024 / core::mem::size_of::<V>().max(1)).max(1)
+}
+
+/// `n` default values, written on the current rayon pool in tasks of [`page_work`]
+/// items, so that the pages of a large buffer are first touched on every thread rather
+/// than one after the other.
+pub fn filled<V: Default + Send>(n: usize) -> Vec<V> {
+    (0..n)
+        .into_par_iter()
+        .with_min_len(page_work::<V>())
+        .map(|_| V::default())
+        .collect()
 }
 
 /// Runs `f(i, &mut items[i])` for every item on the current rayon pool, in tasks of at
