@@ -13,7 +13,7 @@
 //!    triangles and cones are tested against all its rays at once by the lane kernels
 //!    that sit beside the single-ray ones ([`crate::geometry::sphere`],
 //!    [`crate::geometry::triangle`], [`crate::geometry::cone`]).
-//! 2. **Hand-over.** Where at most two rays of a packet (four of sixteen) reach a
+//! 2. **Hand-over.** Where at most two rays of a packet, of any width, reach a
 //!    subtree, the packet hands them over: each continues alone with the single-ray
 //!    traversal of that subtree, keeping its closest hit so far. Rays and primitives the
 //!    lane kernels do not cover (planes, rays whose triangle shear axes differ,

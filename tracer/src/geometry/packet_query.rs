@@ -498,7 +498,7 @@ impl Geometry<f32> {
         rays: &[Option<Ray<f32>>],
         out: &mut [Option<Hit<f32>>],
     ) {
-        self.intersect_packet_switch::<S>(rays, out, switch(S::LANES));
+        self.intersect_packet_switch::<S>(rays, out, SWITCH);
     }
 
     /// [`Geometry::intersect_lanes`], handing rays over to single-ray traversal where
@@ -552,7 +552,7 @@ impl Geometry<f32> {
     /// If `rays` or `out` is shorter than `S::LANES`, or `S::LANES > 16`.
     #[inline(always)]
     pub fn occluded_lanes<S: SimdF32>(&self, rays: &[Option<Ray<f32>>], out: &mut [bool]) {
-        self.occluded_packet_switch::<S>(rays, out, switch(S::LANES));
+        self.occluded_packet_switch::<S>(rays, out, SWITCH);
     }
 
     /// [`Geometry::occluded_lanes`] with the hand-over threshold `switch`.
@@ -850,18 +850,13 @@ impl<S: SimdF32> PacketVisitor<S> for AnyPacket<'_, S> {
 }
 
 /// Rays at or below which a packet hands its rays over to single-ray traversal
-/// ([`crate::bvh::Bvh::traverse4_packet`]). Two for four and eight lanes: the
-/// instruction count of eye packets (callgrind, `tracer/examples/packet_walk.rs`) was
-/// lowest there on the classic scenes, within 1-3 % of one and of three; four for
-/// sixteen lanes, by the same proportion (not measured: no AVX-512 on the machine of
-/// the measurement, see `tracer/RESULTS.md`).
-pub(crate) const fn switch(lanes: usize) -> u32 {
-    if lanes >= 16 {
-        4
-    } else {
-        2
-    }
-}
+/// ([`crate::bvh::Bvh::traverse4_packet`]), for every packet width. Four and eight
+/// lanes: the instruction count of eye packets (callgrind, `tracer/examples/packet_walk.rs`)
+/// was lowest at two on the classic scenes, within 1-3 % of one and of three. Sixteen
+/// lanes (AVX-512, which callgrind cannot run): whole renders of the seven scenes were
+/// 1.02 and 1.03 times as fast with two as with four (`tracer/RESULTS.md`), and one
+/// or none were level with two.
+pub(crate) const SWITCH: u32 = 2;
 
 #[cfg(all(test, target_arch = "x86_64"))]
 mod tests {
@@ -927,7 +922,7 @@ mod tests {
                     let switches = if k == 0 {
                         vec![0, 1, 2, 4, n as u32]
                     } else {
-                        vec![super::switch(n)]
+                        vec![super::SWITCH]
                     };
                     for switch in switches {
                         // Eye rays in runs of `n` pixels, row-major, so some packets span
