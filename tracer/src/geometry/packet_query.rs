@@ -498,17 +498,19 @@ impl Geometry<f32> {
         rays: &[Option<Ray<f32>>],
         out: &mut [Option<Hit<f32>>],
     ) {
-        self.intersect_packet_switch::<S>(rays, out, SWITCH);
+        self.intersect_packet_switch::<S>(rays, out, SWITCH, true);
     }
 
     /// [`Geometry::intersect_lanes`], handing rays over to single-ray traversal where
-    /// at most `switch` of them are left ([`crate::bvh::Bvh::traverse4_packet`]).
+    /// at most `switch` of them are left, and with `frustum` walking rays of one origin
+    /// as a beam ([`crate::bvh::Bvh::traverse4_packet`]).
     #[inline(always)]
     pub(crate) fn intersect_packet_switch<S: SimdF32>(
         &self,
         rays: &[Option<Ray<f32>>],
         out: &mut [Option<Hit<f32>>],
         switch: u32,
+        frustum: bool,
     ) {
         let n = S::LANES;
         assert!(n <= MAX_LANES && rays.len() >= n && out.len() >= n);
@@ -531,6 +533,7 @@ impl Geometry<f32> {
             best: &mut best,
             t_max: su.t_limit,
             switch,
+            frustum,
         });
         for (l, o) in out[..n].iter_mut().enumerate() {
             *o = match &rays[l] {
@@ -703,6 +706,8 @@ struct ClosestPacket<'a, S: SimdF32> {
     t_max: S,
     /// The hand-over threshold of [`crate::bvh::Bvh::traverse4_packet`].
     switch: u32,
+    /// Whether rays of one origin walk as a beam ([`crate::bvh::Bvh::traverse4_packet`]).
+    frustum: bool,
 }
 
 impl<S: SimdF32> Query for ClosestPacket<'_, S> {
@@ -721,8 +726,8 @@ impl<S: SimdF32> Query for ClosestPacket<'_, S> {
 
     #[inline(always)]
     fn wide(&mut self, bvh: &Bvh) -> bool {
-        let (su, t_max, switch) = (self.su, self.t_max, self.switch);
-        bvh.traverse4_packet(&su.ray, su.valid, t_max, switch, self);
+        let (su, t_max, switch, frustum) = (self.su, self.t_max, self.switch, self.frustum);
+        bvh.traverse4_packet(&su.ray, su.valid, t_max, switch, frustum, self);
         false
     }
 
@@ -807,7 +812,7 @@ impl<S: SimdF32> Query for AnyPacket<'_, S> {
     fn wide(&mut self, bvh: &Bvh) -> bool {
         let (su, switch) = (self.su, self.switch);
         let active = su.valid & !self.done;
-        bvh.traverse4_packet(&su.ray, active, su.t_limit, switch, self);
+        bvh.traverse4_packet(&su.ray, active, su.t_limit, switch, true, self);
         false
     }
 
@@ -870,6 +875,7 @@ mod tests {
         geometry: &'a Geometry<f32>,
         rays: &'a [Option<Ray<f32>>; MAX_LANES],
         switch: u32,
+        frustum: bool,
     }
 
     impl Kernel for Queries<'_> {
@@ -877,8 +883,12 @@ mod tests {
         fn run<S: SimdF32>(self) -> Self::Output {
             let mut hits = [None; MAX_LANES];
             let mut blocked = [false; MAX_LANES];
-            self.geometry
-                .intersect_packet_switch::<S>(self.rays, &mut hits, self.switch);
+            self.geometry.intersect_packet_switch::<S>(
+                self.rays,
+                &mut hits,
+                self.switch,
+                self.frustum,
+            );
             self.geometry
                 .occluded_packet_switch::<S>(self.rays, &mut blocked, self.switch);
             (hits, blocked)
@@ -886,7 +896,8 @@ mod tests {
     }
 
     /// With every hand-over threshold, from never (0) to at once (all lanes), each lane
-    /// of eye and shadow packets is the single ray's answer, bit for bit; and so over
+    /// of eye and shadow packets is the single ray's answer, bit for bit, with and
+    /// without the beam walk of rays of one origin; and so over
     /// the binary tree and without a BVH (every step of [`Geometry::query`]).
     #[test]
     fn every_hand_over_threshold_gives_the_single_ray_answers() {
@@ -918,13 +929,16 @@ mod tests {
                 });
                 for isa in Isa::available() {
                     let n = isa.lanes();
-                    // The threshold matters to the four-wide walk only.
-                    let switches = if k == 0 {
-                        vec![0, 1, 2, 4, n as u32]
+                    // The threshold and the beam walk matter to the four-wide walk only.
+                    let switches: Vec<(u32, bool)> = if k == 0 {
+                        [0, 1, 2, 4, n as u32]
+                            .into_iter()
+                            .flat_map(|s| [(s, false), (s, true)])
+                            .collect()
                     } else {
-                        vec![super::SWITCH]
+                        vec![(super::SWITCH, true)]
                     };
-                    for switch in switches {
+                    for (switch, frustum) in switches {
                         // Eye rays in runs of `n` pixels, row-major, so some packets span
                         // two rows; then rays from their hits toward the first light.
                         for first in (0..w * h).step_by(n) {
@@ -940,6 +954,7 @@ mod tests {
                                 geometry: g,
                                 rays: &eye,
                                 switch,
+                                frustum,
                             });
                             let mut shadow = [None; MAX_LANES];
                             for l in 0..n {
@@ -963,6 +978,7 @@ mod tests {
                                 geometry: g,
                                 rays: &shadow,
                                 switch,
+                                frustum,
                             });
                             for l in 0..n {
                                 let single = shadow[l].as_ref().is_some_and(|r| g.occluded(r));

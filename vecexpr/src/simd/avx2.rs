@@ -256,4 +256,26 @@ impl SimdF32 for F32x8 {
             ))
         }
     }
+    #[inline(always)]
+    fn reduce_min(self) -> f32 {
+        // SAFETY: AVX (type contract). The two halves, then as four lanes.
+        let half = unsafe {
+            _mm_min_ps(
+                _mm256_castps256_ps128(self.0),
+                _mm256_extractf128_ps::<1>(self.0),
+            )
+        };
+        super::F32x4(half).reduce_min()
+    }
+    #[inline(always)]
+    fn reduce_max(self) -> f32 {
+        // SAFETY: AVX (type contract). The two halves, then as four lanes.
+        let half = unsafe {
+            _mm_max_ps(
+                _mm256_castps256_ps128(self.0),
+                _mm256_extractf128_ps::<1>(self.0),
+            )
+        };
+        super::F32x4(half).reduce_max()
+    }
 }

@@ -258,4 +258,14 @@ impl SimdF32 for F32x16 {
             Self(_mm512_castsi512_ps(_mm512_or_si512(mag, sgn)))
         }
     }
+    #[inline(always)]
+    fn reduce_min(self) -> f32 {
+        // SAFETY: AVX-512F (type contract).
+        unsafe { _mm512_reduce_min_ps(self.0) }
+    }
+    #[inline(always)]
+    fn reduce_max(self) -> f32 {
+        // SAFETY: AVX-512F (type contract).
+        unsafe { _mm512_reduce_max_ps(self.0) }
+    }
 }

@@ -395,6 +395,10 @@ pub trait SimdF32: Scalar<Elem = f32, Mask: SimdMask> {
     fn store(self, out: &mut [f32]);
     /// Lane-wise: the magnitude of `self` with the sign bit of `sign` (as `f32::copysign`).
     fn copysign(self, sign: Self) -> Self;
+    /// The smallest lane. With NaN lanes the result is unspecified (one of the lanes).
+    fn reduce_min(self) -> f32;
+    /// The largest lane. With NaN lanes the result is unspecified (one of the lanes).
+    fn reduce_max(self) -> f32;
 }
 
 /// A lane mask of a [`SimdF32`] type, convertible to and from a bit mask.

@@ -276,4 +276,20 @@ impl SimdF32 for F32x4 {
             Self(_mm_or_ps(_mm_andnot_ps(s, self.0), _mm_and_ps(s, sign.0)))
         }
     }
+    #[inline(always)]
+    fn reduce_min(self) -> f32 {
+        // SAFETY: SSE baseline. Halves, then pairs.
+        unsafe {
+            let h = _mm_min_ps(self.0, _mm_movehl_ps(self.0, self.0));
+            _mm_cvtss_f32(_mm_min_ss(h, _mm_shuffle_ps::<0b01>(h, h)))
+        }
+    }
+    #[inline(always)]
+    fn reduce_max(self) -> f32 {
+        // SAFETY: SSE baseline. Halves, then pairs.
+        unsafe {
+            let h = _mm_max_ps(self.0, _mm_movehl_ps(self.0, self.0));
+            _mm_cvtss_f32(_mm_max_ss(h, _mm_shuffle_ps::<0b01>(h, h)))
+        }
+    }
 }

@@ -368,6 +368,48 @@ fn lane_ops_match_scalar_for_every_available_isa() {
     assert_eq!(ran, cpu_isas());
 }
 
+/// `reduce_min` and `reduce_max` against a scan of the lanes, on random lanes without
+/// NaN (whose result is unspecified), with the extreme in every position.
+struct CheckReduce;
+
+impl Kernel for CheckReduce {
+    type Output = usize;
+    fn run<S: SimdF32>(self) -> usize {
+        let mut state = 0x9e37_79b9u32;
+        let mut checked = 0;
+        for _ in 0..200 {
+            let mut a = [0.0f32; 16];
+            for x in a.iter_mut().take(S::LANES) {
+                *x = loop {
+                    let v = rnd(&mut state);
+                    if !v.is_nan() {
+                        break v;
+                    }
+                };
+            }
+            let v = S::load(&a);
+            let lo = a[..S::LANES].iter().copied().fold(f32::INFINITY, f32::min);
+            let hi = a[..S::LANES]
+                .iter()
+                .copied()
+                .fold(f32::NEG_INFINITY, f32::max);
+            // Signed zeros compare equal: the lane returned may be either.
+            assert_eq!(v.reduce_min(), lo, "{a:?}");
+            assert_eq!(v.reduce_max(), hi, "{a:?}");
+            checked += 1;
+        }
+        checked
+    }
+}
+
+#[test]
+fn reductions_find_the_extreme_lane() {
+    let ran = for_each_isa("reductions", |isa| {
+        assert_eq!(isa.dispatch(CheckReduce), 200, "{isa}");
+    });
+    assert_eq!(ran, cpu_isas());
+}
+
 #[test]
 fn normalize_rescales_only_the_lanes_that_need_it() {
     let ran = for_each_isa("normalize", |isa| {
