@@ -257,6 +257,50 @@ impl SimdF32 for F32x8 {
         }
     }
     #[inline(always)]
+    fn transpose8(recs: &[&[f32; 8]]) -> [Self; 8] {
+        check();
+        let r = &recs[..8];
+        // SAFETY: AVX (type contract, checked above in debug builds); each load reads one
+        // record's eight values. The 8x8 transpose: pairs of records interleaved, then
+        // quadruples, within each 128-bit half; then the halves exchanged. (No
+        // closures: one left out of line would not be compiled with AVX.)
+        unsafe {
+            let mut v = [_mm256_setzero_ps(); 8];
+            for (i, v) in v.iter_mut().enumerate() {
+                *v = _mm256_loadu_ps(r[i].as_ptr());
+            }
+            let u0 = _mm256_unpacklo_ps(v[0], v[1]);
+            let u1 = _mm256_unpacklo_ps(v[2], v[3]);
+            let u2 = _mm256_unpacklo_ps(v[4], v[5]);
+            let u3 = _mm256_unpacklo_ps(v[6], v[7]);
+            let w0 = _mm256_unpackhi_ps(v[0], v[1]);
+            let w1 = _mm256_unpackhi_ps(v[2], v[3]);
+            let w2 = _mm256_unpackhi_ps(v[4], v[5]);
+            let w3 = _mm256_unpackhi_ps(v[6], v[7]);
+            // Per 128-bit half, `q[k]` holds value k of records 0-3 (`q[k + 4]`: 4-7).
+            let q = [
+                _mm256_shuffle_ps::<0x44>(u0, u1),
+                _mm256_shuffle_ps::<0xEE>(u0, u1),
+                _mm256_shuffle_ps::<0x44>(w0, w1),
+                _mm256_shuffle_ps::<0xEE>(w0, w1),
+                _mm256_shuffle_ps::<0x44>(u2, u3),
+                _mm256_shuffle_ps::<0xEE>(u2, u3),
+                _mm256_shuffle_ps::<0x44>(w2, w3),
+                _mm256_shuffle_ps::<0xEE>(w2, w3),
+            ];
+            [
+                Self(_mm256_permute2f128_ps::<0x20>(q[0], q[4])),
+                Self(_mm256_permute2f128_ps::<0x20>(q[1], q[5])),
+                Self(_mm256_permute2f128_ps::<0x20>(q[2], q[6])),
+                Self(_mm256_permute2f128_ps::<0x20>(q[3], q[7])),
+                Self(_mm256_permute2f128_ps::<0x31>(q[0], q[4])),
+                Self(_mm256_permute2f128_ps::<0x31>(q[1], q[5])),
+                Self(_mm256_permute2f128_ps::<0x31>(q[2], q[6])),
+                Self(_mm256_permute2f128_ps::<0x31>(q[3], q[7])),
+            ]
+        }
+    }
+    #[inline(always)]
     fn reduce_min(self) -> f32 {
         // SAFETY: AVX (type contract). The two halves, then as four lanes.
         let half = unsafe {

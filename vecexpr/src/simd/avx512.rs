@@ -259,6 +259,59 @@ impl SimdF32 for F32x16 {
         }
     }
     #[inline(always)]
+    fn transpose8(recs: &[&[f32; 8]]) -> [Self; 8] {
+        check();
+        let r = &recs[..16];
+        // SAFETY: AVX-512F (type contract, checked above in debug builds); each load
+        // reads one record's eight values. Register `i` holds records `i` and `i + 8`,
+        // one per 256-bit half; the 8x8 transpose of AVX2 runs in both halves at once,
+        // its last step as one two-register permutation per output. (No closures: one
+        // left out of line would not be compiled with AVX-512 and call each intrinsic.)
+        unsafe {
+            let mut v = [_mm512_setzero_ps(); 8];
+            for (i, v) in v.iter_mut().enumerate() {
+                let lo = _mm512_castps256_ps512(_mm256_loadu_ps(r[i].as_ptr()));
+                let hi = _mm256_castps_pd(_mm256_loadu_ps(r[i + 8].as_ptr()));
+                *v = _mm512_castpd_ps(_mm512_insertf64x4::<1>(_mm512_castps_pd(lo), hi));
+            }
+            let u0 = _mm512_unpacklo_ps(v[0], v[1]);
+            let u1 = _mm512_unpacklo_ps(v[2], v[3]);
+            let u2 = _mm512_unpacklo_ps(v[4], v[5]);
+            let u3 = _mm512_unpacklo_ps(v[6], v[7]);
+            let w0 = _mm512_unpackhi_ps(v[0], v[1]);
+            let w1 = _mm512_unpackhi_ps(v[2], v[3]);
+            let w2 = _mm512_unpackhi_ps(v[4], v[5]);
+            let w3 = _mm512_unpackhi_ps(v[6], v[7]);
+            // Per 128-bit quarter, `q[k]` holds value k (quarters 0 and 2) or k + 4
+            // (quarters 1 and 3) of records 0-3 (`q[k + 4]`: 4-7), plus 8 in the upper
+            // half.
+            let q = [
+                _mm512_shuffle_ps::<0x44>(u0, u1),
+                _mm512_shuffle_ps::<0xEE>(u0, u1),
+                _mm512_shuffle_ps::<0x44>(w0, w1),
+                _mm512_shuffle_ps::<0xEE>(w0, w1),
+                _mm512_shuffle_ps::<0x44>(u2, u3),
+                _mm512_shuffle_ps::<0xEE>(u2, u3),
+                _mm512_shuffle_ps::<0x44>(w2, w3),
+                _mm512_shuffle_ps::<0xEE>(w2, w3),
+            ];
+            // Lanes of the pair (a, b): a's 0-15, then b's as 16-31.
+            let low = _mm512_setr_epi32(0, 1, 2, 3, 16, 17, 18, 19, 8, 9, 10, 11, 24, 25, 26, 27);
+            let high =
+                _mm512_setr_epi32(4, 5, 6, 7, 20, 21, 22, 23, 12, 13, 14, 15, 28, 29, 30, 31);
+            [
+                Self(_mm512_permutex2var_ps(q[0], low, q[4])),
+                Self(_mm512_permutex2var_ps(q[1], low, q[5])),
+                Self(_mm512_permutex2var_ps(q[2], low, q[6])),
+                Self(_mm512_permutex2var_ps(q[3], low, q[7])),
+                Self(_mm512_permutex2var_ps(q[0], high, q[4])),
+                Self(_mm512_permutex2var_ps(q[1], high, q[5])),
+                Self(_mm512_permutex2var_ps(q[2], high, q[6])),
+                Self(_mm512_permutex2var_ps(q[3], high, q[7])),
+            ]
+        }
+    }
+    #[inline(always)]
     fn reduce_min(self) -> f32 {
         // SAFETY: AVX-512F (type contract).
         unsafe { _mm512_reduce_min_ps(self.0) }

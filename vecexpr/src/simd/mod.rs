@@ -395,6 +395,12 @@ pub trait SimdF32: Scalar<Elem = f32, Mask: SimdMask> {
     fn store(self, out: &mut [f32]);
     /// Lane-wise: the magnitude of `self` with the sign bit of `sign` (as `f32::copysign`).
     fn copysign(self, sign: Self) -> Self;
+    /// Eight values of each of `LANES` records, transposed into eight registers: lane
+    /// `l` of `out[k]` is `recs[l][k]` (records in, structure of arrays out).
+    ///
+    /// # Panics
+    /// If `recs` has fewer than `LANES` records.
+    fn transpose8(recs: &[&[f32; 8]]) -> [Self; 8];
     /// The smallest lane. With NaN lanes the result is unspecified (one of the lanes).
     fn reduce_min(self) -> f32;
     /// The largest lane. With NaN lanes the result is unspecified (one of the lanes).

@@ -277,6 +277,28 @@ impl SimdF32 for F32x4 {
         }
     }
     #[inline(always)]
+    fn transpose8(recs: &[&[f32; 8]]) -> [Self; 8] {
+        let r = &recs[..4];
+        let mut out = [Self::zero(); 8];
+        // SAFETY: SSE baseline; each load reads four of a record's eight values. Two
+        // 4x4 transposes (unpack pairs, then move halves): values 0-3, then 4-7.
+        unsafe {
+            for (o, out) in [0, 4].into_iter().zip(out.chunks_exact_mut(4)) {
+                let a = _mm_loadu_ps(r[0][o..].as_ptr());
+                let b = _mm_loadu_ps(r[1][o..].as_ptr());
+                let c = _mm_loadu_ps(r[2][o..].as_ptr());
+                let d = _mm_loadu_ps(r[3][o..].as_ptr());
+                let (ab_lo, ab_hi) = (_mm_unpacklo_ps(a, b), _mm_unpackhi_ps(a, b));
+                let (cd_lo, cd_hi) = (_mm_unpacklo_ps(c, d), _mm_unpackhi_ps(c, d));
+                out[0] = Self(_mm_movelh_ps(ab_lo, cd_lo));
+                out[1] = Self(_mm_movehl_ps(cd_lo, ab_lo));
+                out[2] = Self(_mm_movelh_ps(ab_hi, cd_hi));
+                out[3] = Self(_mm_movehl_ps(cd_hi, ab_hi));
+            }
+        }
+        out
+    }
+    #[inline(always)]
     fn reduce_min(self) -> f32 {
         // SAFETY: SSE baseline. Halves, then pairs.
         unsafe {

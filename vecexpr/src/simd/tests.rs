@@ -402,6 +402,39 @@ impl Kernel for CheckReduce {
     }
 }
 
+/// `transpose8` against the records it was given, lane by lane and bit for bit.
+struct CheckTranspose;
+
+impl Kernel for CheckTranspose {
+    type Output = usize;
+    fn run<S: SimdF32>(self) -> usize {
+        let mut state = 0x1234_5678u32;
+        let mut checked = 0;
+        for _ in 0..50 {
+            let recs: Vec<[f32; 8]> = (0..S::LANES)
+                .map(|_| core::array::from_fn(|_| rnd(&mut state)))
+                .collect();
+            let refs: Vec<&[f32; 8]> = recs.iter().collect();
+            let rows = S::transpose8(&refs);
+            for (k, row) in rows.iter().enumerate() {
+                for (l, x) in lanes(*row).into_iter().enumerate() {
+                    assert!(same(x, recs[l][k]), "value {k} of record {l}");
+                    checked += 1;
+                }
+            }
+        }
+        checked
+    }
+}
+
+#[test]
+fn transpose_puts_record_values_in_lanes() {
+    let ran = for_each_isa("transpose", |isa| {
+        assert_eq!(isa.dispatch(CheckTranspose), 50 * 8 * isa.lanes(), "{isa}");
+    });
+    assert_eq!(ran, cpu_isas());
+}
+
 #[test]
 fn reductions_find_the_extreme_lane() {
     let ran = for_each_isa("reductions", |isa| {
