@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Eye packets of two builds of `packet_walk` (tracer/examples/packet_walk.rs) side by
+# side on a noisy host: for each scene, ROUNDS alternations of one-run, one-thread
+# measurements of the packets over the four-wide tree (512x512), then the median rate of
+# each build and the median of the per-pair ratios new / old.
+# Usage: tracer/scripts/packet-ab.sh OLD_BIN NEW_BIN ROUNDS SCENE...
+#   SCENE is a name in ../shared/scenes/spd without .nff, e.g. teapot-s12
+#   e.g. git worktree add /tmp/old COMMIT && cargo build --profile perf -p tracer
+#   --example packet_walk --manifest-path /tmp/old/Cargo.toml --target-dir /tmp/old-t &&
+#   cargo build --profile perf -p tracer --example packet_walk &&
+#   tracer/scripts/packet-ab.sh /tmp/old-t/perf/examples/packet_walk
+#   target/perf/examples/packet_walk 15 teapot-s12 balls-s4
+set -euo pipefail
+root=$(cd "$(dirname "$0")/../.." && pwd)
+old=$1 new=$2 rounds=$3
+shift 3
+S=$root/../shared/scenes/spd
+rate() { "$1" --runs 1 --threads 1 --only wide --size 512x512 "$S/$2.nff" | awk -F'|' '/nff/ {print $5}'; }
+echo "| scene | old Mrays/s | new Mrays/s | new / old |"
+echo "|---|---:|---:|---:|"
+for s in "$@"; do
+  pairs=""
+  for _ in $(seq "$rounds"); do
+    pairs+="$(rate "$old" "$s") $(rate "$new" "$s")"$'\n'
+  done
+  python3 -c '
+import statistics, sys
+p = [tuple(map(float, l.split())) for l in sys.argv[2].splitlines() if l.strip()]
+a = statistics.median(x for x, _ in p)
+b = statistics.median(y for _, y in p)
+r = statistics.median(y / x for x, y in p)
+print(f"| {sys.argv[1]} | {a:.2f} | {b:.2f} | {r:.3f} |")' "$s" "$pairs"
+done
