@@ -163,18 +163,19 @@ impl<'a, S: SimdF32> Setup<'a, S> {
                 *rec = r.values();
             }
         }
+        let rows = S::transpose8(&recs);
+        // The rows as arrays too, for the lane-by-lane reads below.
         let mut buf = [[0.0f32; MAX_LANES]; row::ROWS];
-        for (b, v) in buf.iter_mut().zip(S::transpose8(&recs)) {
+        for (b, v) in buf.iter_mut().zip(rows) {
             v.store(b);
         }
-        let load = |k: usize| S::load(&buf[k]);
         let origin = vec3(
-            load(row::ORIGIN),
-            load(row::ORIGIN + 1),
-            load(row::ORIGIN + 2),
+            rows[row::ORIGIN],
+            rows[row::ORIGIN + 1],
+            rows[row::ORIGIN + 2],
         );
-        let dir = vec3(load(row::DIR), load(row::DIR + 1), load(row::DIR + 2));
-        let (t_min, t_max) = (load(row::T_MIN), load(row::T_MAX));
+        let dir = vec3(rows[row::DIR], rows[row::DIR + 1], rows[row::DIR + 2]);
+        let (t_min, t_max) = (rows[row::T_MIN], rows[row::T_MAX]);
         // `RayData::new`'s test, lane by lane.
         let dd = dir.length_squared();
         let mut ok = dd
