@@ -22,7 +22,7 @@
 //! colour as intensity.
 
 use crate::float::Float;
-use crate::geometry::{AccelOptions, Geometry, MAX_LANES};
+use crate::geometry::{AccelOptions, Geometry, Intersection, MAX_LANES};
 use crate::ray::{Hit, Ray};
 use crate::scene::desc::{CameraDesc, LightDesc, MaterialDesc, SceneDesc, Shape, ShapeDesc, P3};
 use crate::Camera;
@@ -134,6 +134,19 @@ impl<T: Float> Scene<T> {
         self.geometry.intersect(ray)
     }
 
+    /// The closest hit along `ray` without its hit record ([`Geometry::cast`]): the
+    /// distance, barycentrics and primitive; [`Scene::hit`] completes it.
+    #[inline]
+    pub fn cast(&self, ray: &Ray<T>) -> Option<Intersection<T>> {
+        self.geometry.cast(ray)
+    }
+
+    /// The full hit record of what [`Scene::cast`] found for `ray` ([`Geometry::hit`]).
+    #[inline]
+    pub fn hit(&self, ray: &Ray<T>, found: &Intersection<T>) -> Hit<T> {
+        self.geometry.hit(ray, found)
+    }
+
     /// Is anything hit along `ray` within its `(t_min, t_max)`? (Any hit, early exit.)
     #[inline]
     pub fn occluded(&self, ray: &Ray<T>) -> bool {
@@ -164,6 +177,19 @@ impl Scene<f32> {
         rays: &[Option<Ray<f32>>; MAX_LANES],
     ) -> [Option<Hit<f32>>; MAX_LANES] {
         self.geometry.intersect_packet(isa, rays)
+    }
+
+    /// The closest hits of a packet of rays without their hit records
+    /// ([`Geometry::cast_packet`]).
+    ///
+    /// # Panics
+    /// If the CPU lacks `isa` or off x86-64.
+    pub fn cast_packet(
+        &self,
+        isa: Isa,
+        rays: &[Option<Ray<f32>>; MAX_LANES],
+    ) -> [Option<Intersection<f32>>; MAX_LANES] {
+        self.geometry.cast_packet(isa, rays)
     }
 
     /// Whether each ray of a packet is blocked ([`Geometry::occluded_packet`]).

@@ -139,6 +139,67 @@ fn packet_hits_are_the_single_ray_hits() {
     }
 }
 
+/// `Scene::cast` (one ray, and packets on every instruction set) finds what
+/// `Scene::intersect` finds, and `Scene::hit` completes it into the same record, bit for
+/// bit, with both triangle tests; rays in a 4x4 block per packet and in scattered
+/// directions, with empty lanes.
+#[test]
+fn casts_are_the_hits_without_their_records() {
+    let isas = isas("casts");
+    for test in [TriangleTest::Watertight, TriangleTest::MollerTrumbore] {
+        let accel = AccelOptions {
+            triangle: test,
+            ..AccelOptions::default()
+        };
+        for name in shipped() {
+            let s = scene(&name, &accel);
+            let cam = s.camera_for(24, 16);
+            let mut rays = Vec::new();
+            for by in (0..16).step_by(4) {
+                for bx in (0..24).step_by(4) {
+                    let mut p = [None; 16];
+                    for (l, r) in p.iter_mut().enumerate() {
+                        let (x, y) = ((bx + l % 4) as f32 + 0.5, (by + l / 4) as f32 + 0.5);
+                        *r = Some(Ray::new(cam.position, cam.direction(x, y)));
+                    }
+                    rays.push(p);
+                }
+            }
+            let mut p = [None; 16];
+            for (l, r) in p.iter_mut().enumerate().filter(|(l, _)| l % 5 != 4) {
+                let a = l as f32 * 0.7;
+                let d = vecexpr::vec3(a.cos(), (a * 1.3).sin(), -1.0 + 0.1 * l as f32);
+                *r = Some(Ray::new(cam.position, d));
+            }
+            rays.push(p);
+            let mut found = 0;
+            for packet in &rays {
+                let singles: Vec<_> = packet.iter().map(|r| r.as_ref().and_then(|r| s.cast(r))).collect();
+                for (r, c) in packet.iter().zip(&singles) {
+                    let full = r.as_ref().and_then(|r| s.intersect(r));
+                    let made = r.as_ref().zip(c.as_ref()).map(|(r, c)| s.hit(r, c));
+                    assert!(same_hit(made.as_ref(), full.as_ref()), "{name} {test:?}: {made:?} vs {full:?}");
+                    if let (Some(c), Some(h)) = (c, full) {
+                        assert_eq!(c.t().to_bits(), h.t.to_bits());
+                        found += 1;
+                    }
+                }
+                for &isa in &isas {
+                    let n = isa.lanes();
+                    for (chunk, want) in packet.chunks(n).zip(singles.chunks(n)) {
+                        let mut lanes = [None; 16];
+                        lanes[..n].copy_from_slice(chunk);
+                        let got = s.cast_packet(isa, &lanes);
+                        assert_eq!(&got[..n], want, "{name} {test:?} {isa}");
+                        assert!(got[n..].iter().all(Option::is_none));
+                    }
+                }
+            }
+            assert!(found > 0, "{name}: nothing hit");
+        }
+    }
+}
+
 /// The shadow rays of the eye hits of a `w` x `h` image toward each light, from the
 /// offset hit point, in 4x4 pixel blocks (one packet of sixteen per block and light),
 /// plus rays toward a point just off each hit (a short `t_max`) and rays in a fixed

@@ -244,7 +244,7 @@ impl GeometryStats {
 }
 
 /// The closest candidate so far: reference, distance, barycentrics.
-#[derive(Clone, Copy)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 struct Best<T: Real> {
     r: u32,
     t: T,
@@ -262,6 +262,30 @@ impl<T: Real> Best<T> {
             b1: T::ZERO,
             b2: T::ZERO,
         }
+    }
+}
+
+/// What a closest-hit query finds before any hit record is built: the distance, the
+/// barycentrics and the primitive ([`Geometry::cast`]). This is what Embree's
+/// `rtcIntersect` returns (distance, barycentrics, primitive), and all a caller needs
+/// who wants only the distance or will shade later; [`Geometry::hit`] makes the full
+/// [`Hit`] from it, reading the arrays the traversal did not touch (vertex positions,
+/// normals, materials).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Intersection<T: Real>(Best<T>);
+
+impl<T: Real> Intersection<T> {
+    /// Ray parameter of the hit, the same as [`Hit::t`].
+    #[inline]
+    pub fn t(&self) -> T {
+        self.0.t
+    }
+
+    /// The barycentrics $(b_1, b_2)$ of vertices 1 and 2 of a hit triangle; zero for
+    /// other primitives.
+    #[inline]
+    pub fn barycentrics(&self) -> (T, T) {
+        (self.0.b1, self.0.b2)
     }
 }
 
@@ -399,6 +423,28 @@ impl<T: Float> Geometry<T> {
         self.intersect_kinds::<{ kinds::ALL }>(ray)
     }
 
+    /// The closest hit of [`Geometry::intersect`] without its hit record: `cast(ray)`
+    /// then [`Geometry::hit`] is `intersect(ray)`, bit for bit. Spares the record's
+    /// memory reads and arithmetic where only the distance is wanted.
+    #[inline]
+    pub fn cast(&self, ray: &Ray<T>) -> Option<Intersection<T>> {
+        match self.triangle_test {
+            TriangleTest::Watertight => self.closest_best::<true, { kinds::ALL }>(ray),
+            TriangleTest::MollerTrumbore => self.cast_moller_trumbore(ray),
+        }
+        .map(Intersection)
+    }
+
+    /// The full hit record of `found`, which [`Geometry::cast`] (or
+    /// [`Geometry::cast_packet`]) returned for this `ray` on this geometry.
+    ///
+    /// # Panics
+    /// May panic, or return a meaningless record, if `found` is from another geometry.
+    #[inline]
+    pub fn hit(&self, ray: &Ray<T>, found: &Intersection<T>) -> Hit<T> {
+        self.make_hit::<{ kinds::ALL }>(&found.0, ray)
+    }
+
     /// Is anything hit with $t \in (t_{min}, t_{max})$? Stops at the first hit found.
     #[inline]
     pub fn occluded(&self, ray: &Ray<T>) -> bool {
@@ -501,6 +547,11 @@ impl<T: Float> Geometry<T> {
     #[inline(never)]
     fn closest_moller_trumbore(&self, ray: &Ray<T>) -> Option<Hit<T>> {
         self.closest::<false, { kinds::ALL }>(ray)
+    }
+
+    #[inline(never)]
+    fn cast_moller_trumbore(&self, ray: &Ray<T>) -> Option<Best<T>> {
+        self.closest_best::<false, { kinds::ALL }>(ray)
     }
 
     #[inline(never)]
@@ -693,6 +744,16 @@ impl<T: Float> Geometry<T> {
     /// The closest-hit [`RayQuery`] of one ray.
     #[inline(always)]
     fn closest<const WATERTIGHT: bool, const KINDS: u32>(&self, ray: &Ray<T>) -> Option<Hit<T>> {
+        self.closest_best::<WATERTIGHT, KINDS>(ray)
+            .map(|best| self.make_hit::<KINDS>(&best, ray))
+    }
+
+    /// The winning candidate of the closest-hit [`RayQuery`] of one ray.
+    #[inline(always)]
+    fn closest_best<const WATERTIGHT: bool, const KINDS: u32>(
+        &self,
+        ray: &Ray<T>,
+    ) -> Option<Best<T>> {
         let rd = RayData::new(ray)?;
         let mut best = Best::none(rd.t_limit);
         self.query(&mut RayQuery::<T, false, WATERTIGHT, KINDS> {
@@ -700,7 +761,7 @@ impl<T: Float> Geometry<T> {
             rd: &rd,
             best: &mut best,
         });
-        (best.r != NO_HIT).then(|| self.make_hit::<KINDS>(&best, ray))
+        (best.r != NO_HIT).then_some(best)
     }
 
     /// Is the ray blocked?

@@ -47,7 +47,7 @@ use super::ray_data::{PacketData, PacketShear, RayData, Shear, MAX_LANES};
 use super::sphere::sphere_packet;
 use super::storage::{make_ref, CONE, INDEX_MASK, SPHERE, TAG_SHIFT, TRIANGLE};
 use super::triangle::{triangle_packet, TRI4_LANES};
-use super::{kinds, Best, Geometry, TriangleTest, NO_HIT};
+use super::{kinds, Best, Geometry, Intersection, TriangleTest, NO_HIT};
 use crate::bvh::packet_traverse::{PacketRay, PacketVisitor};
 use crate::bvh::wide::Leaf;
 use crate::bvh::Bvh;
@@ -520,12 +520,58 @@ impl Geometry<f32> {
             }
             return;
         }
+        let (found, best) = self.closest_packet::<S>(rays, switch, frustum);
+        for (l, o) in out[..n].iter_mut().enumerate() {
+            *o = match &rays[l] {
+                Some(r) if found & (1 << l) != 0 => {
+                    Some(self.make_hit::<{ kinds::ALL }>(&best[l], r))
+                }
+                _ => None,
+            };
+        }
+    }
+
+    /// The closest hit of each ray of a packet of `S::LANES` rays without its hit
+    /// record: `out[i]` is what [`Geometry::cast`] returns for `rays[i]` (`None` where
+    /// `rays[i]` is `None`), bit for bit. Called inside
+    /// [`vecexpr::simd::Isa::dispatch`], as [`Geometry::intersect_lanes`].
+    ///
+    /// # Panics
+    /// If `rays` or `out` is shorter than `S::LANES`, or `S::LANES > 16`.
+    #[inline(always)]
+    pub fn cast_lanes<S: SimdF32>(
+        &self,
+        rays: &[Option<Ray<f32>>],
+        out: &mut [Option<Intersection<f32>>],
+    ) {
+        let n = S::LANES;
+        assert!(n <= MAX_LANES && rays.len() >= n && out.len() >= n);
+        if !self.packet_kernels() {
+            for (o, r) in out[..n].iter_mut().zip(&rays[..n]) {
+                *o = r.as_ref().and_then(|r| self.cast(r));
+            }
+            return;
+        }
+        let (found, best) = self.closest_packet::<S>(rays, SWITCH, true);
+        for (l, o) in out[..n].iter_mut().enumerate() {
+            *o = (found & (1 << l) != 0).then_some(Intersection(best[l]));
+        }
+    }
+
+    /// The packet walk of the closest hits: the lanes with a hit as bits, and each
+    /// lane's winning candidate. Needs [`Geometry::packet_kernels`].
+    #[inline(always)]
+    fn closest_packet<S: SimdF32>(
+        &self,
+        rays: &[Option<Ray<f32>>],
+        switch: u32,
+        frustum: bool,
+    ) -> (u32, [Best<f32>; MAX_LANES]) {
+        let mut best = [Best::none(0.0); MAX_LANES];
         let rd = LaneData::new();
         let Some(su) = Setup::<S>::new(rays, &rd) else {
-            out[..n].fill(None);
-            return;
+            return (0, best);
         };
-        let mut best = [Best::none(0.0); MAX_LANES];
         each_lane(su.valid, |l| best[l].t = su.t_limits[l]);
         self.query(&mut ClosestPacket {
             geometry: self,
@@ -535,14 +581,13 @@ impl Geometry<f32> {
             switch,
             frustum,
         });
-        for (l, o) in out[..n].iter_mut().enumerate() {
-            *o = match &rays[l] {
-                Some(r) if su.valid & (1 << l) != 0 && best[l].r != NO_HIT => {
-                    Some(self.make_hit::<{ kinds::ALL }>(&best[l], r))
-                }
-                _ => None,
-            };
-        }
+        let mut found = 0;
+        each_lane(su.valid, |l| {
+            if best[l].r != NO_HIT {
+                found |= 1 << l;
+            }
+        });
+        (found, best)
     }
 
     /// Is each ray of a packet of `S::LANES` rays blocked: `out[i]` is what
@@ -628,6 +673,29 @@ impl Geometry<f32> {
         );
     }
 
+    /// [`Geometry::intersect_packet`] without the hit records: lane `i` is bit for bit
+    /// what [`Geometry::cast`] returns for `rays[i]`.
+    ///
+    /// # Panics
+    /// If the CPU lacks `isa` ([`Isa::is_available`]) or off x86-64.
+    #[inline]
+    pub fn cast_packet(
+        &self,
+        isa: Isa,
+        rays: &[Option<Ray<f32>>; MAX_LANES],
+    ) -> [Option<Intersection<f32>>; MAX_LANES] {
+        let mut out = [None; MAX_LANES];
+        dispatch(
+            isa,
+            CastKernel {
+                geometry: self,
+                rays,
+                out: &mut out,
+            },
+        );
+        out
+    }
+
     /// Whether each of the first [`Isa::lanes`] rays of `rays` is blocked (`None` lanes
     /// are `false`), traced together as one any-hit packet by the kernel of `isa`; the
     /// rest of the result is `false`. Lane `i` is what [`Geometry::occluded`] returns for
@@ -667,6 +735,21 @@ impl Kernel for ClosestKernel<'_> {
     #[inline(always)]
     fn run<S: SimdF32>(self) {
         self.geometry.intersect_lanes::<S>(self.rays, self.out);
+    }
+}
+
+/// Runs [`Geometry::cast_lanes`] on one packet.
+struct CastKernel<'a> {
+    geometry: &'a Geometry<f32>,
+    rays: &'a [Option<Ray<f32>>; MAX_LANES],
+    out: &'a mut [Option<Intersection<f32>>; MAX_LANES],
+}
+
+impl Kernel for CastKernel<'_> {
+    type Output = ();
+    #[inline(always)]
+    fn run<S: SimdF32>(self) {
+        self.geometry.cast_lanes::<S>(self.rays, self.out);
     }
 }
 
