@@ -520,10 +520,11 @@ impl Geometry<f32> {
             }
             return;
         }
-        let (found, best) = self.closest_packet::<S>(rays, switch, frustum);
+        let mut best = [Best::none(0.0); MAX_LANES];
+        let valid = self.closest_packet::<S>(rays, switch, frustum, &mut best);
         for (l, o) in out[..n].iter_mut().enumerate() {
             *o = match &rays[l] {
-                Some(r) if found & (1 << l) != 0 => {
+                Some(r) if valid & (1 << l) != 0 && best[l].r != NO_HIT => {
                     Some(self.make_hit::<{ kinds::ALL }>(&best[l], r))
                 }
                 _ => None,
@@ -552,42 +553,38 @@ impl Geometry<f32> {
             }
             return;
         }
-        let (found, best) = self.closest_packet::<S>(rays, SWITCH, true);
+        let mut best = [Best::none(0.0); MAX_LANES];
+        let valid = self.closest_packet::<S>(rays, SWITCH, true, &mut best);
         for (l, o) in out[..n].iter_mut().enumerate() {
-            *o = (found & (1 << l) != 0).then_some(Intersection(best[l]));
+            *o = (valid & (1 << l) != 0 && best[l].r != NO_HIT).then_some(Intersection(best[l]));
         }
     }
 
-    /// The packet walk of the closest hits: the lanes with a hit as bits, and each
-    /// lane's winning candidate. Needs [`Geometry::packet_kernels`].
+    /// The packet walk of the closest hits into `best` (each lane's winning candidate,
+    /// [`NO_HIT`] for none); returns the valid lanes as bits. Needs
+    /// [`Geometry::packet_kernels`].
     #[inline(always)]
     fn closest_packet<S: SimdF32>(
         &self,
         rays: &[Option<Ray<f32>>],
         switch: u32,
         frustum: bool,
-    ) -> (u32, [Best<f32>; MAX_LANES]) {
-        let mut best = [Best::none(0.0); MAX_LANES];
+        best: &mut [Best<f32>; MAX_LANES],
+    ) -> u32 {
         let rd = LaneData::new();
         let Some(su) = Setup::<S>::new(rays, &rd) else {
-            return (0, best);
+            return 0;
         };
         each_lane(su.valid, |l| best[l].t = su.t_limits[l]);
         self.query(&mut ClosestPacket {
             geometry: self,
             su: &su,
-            best: &mut best,
+            best,
             t_max: su.t_limit,
             switch,
             frustum,
         });
-        let mut found = 0;
-        each_lane(su.valid, |l| {
-            if best[l].r != NO_HIT {
-                found |= 1 << l;
-            }
-        });
-        (found, best)
+        su.valid
     }
 
     /// Is each ray of a packet of `S::LANES` rays blocked: `out[i]` is what
