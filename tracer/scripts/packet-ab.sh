@@ -5,6 +5,7 @@
 # each build and the median of the per-pair ratios new / old.
 # Usage: tracer/scripts/packet-ab.sh OLD_BIN NEW_BIN ROUNDS SCENE...
 #   SCENE is a name in ../shared/scenes/spd without .nff, e.g. teapot-s12
+#   ONLY=single measures single eye rays over the four-wide tree instead of packets.
 #   e.g. git worktree add /tmp/old COMMIT && cargo build --profile perf -p tracer
 #   --example packet_walk --manifest-path /tmp/old/Cargo.toml --target-dir /tmp/old-t &&
 #   cargo build --profile perf -p tracer --example packet_walk &&
@@ -15,7 +16,13 @@ root=$(cd "$(dirname "$0")/../.." && pwd)
 old=$1 new=$2 rounds=$3
 shift 3
 S=$root/../shared/scenes/spd
-rate() { "$1" --runs 1 --threads 1 --only wide --size 512x512 "$S/$2.nff" | awk -F'|' '/nff/ {print $5}'; }
+only=${ONLY:-wide}
+case $only in
+  wide) col=5 ;;
+  single) col=3 ;;
+  *) echo "ONLY=$only: expected wide or single" >&2; exit 2 ;;
+esac
+rate() { "$1" --runs 1 --threads 1 --only "$only" --size 512x512 "$S/$2.nff" | awk -F'|' -v c=$col '/nff/ {print $c}'; }
 echo "| scene | old Mrays/s | new Mrays/s | new / old |"
 echo "|---|---:|---:|---:|"
 for s in "$@"; do
