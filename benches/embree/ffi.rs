@@ -43,6 +43,8 @@ pub const RTC_FORMAT_FLOAT3: c_int = 0x9003;
 /// `RTC_FORMAT_FLOAT4`.
 pub const RTC_FORMAT_FLOAT4: c_int = 0x9004;
 
+/// `enum RTCSceneFlags`: the robust build and traversal mode.
+pub const RTC_SCENE_FLAG_ROBUST: c_int = 1 << 2;
 /// `enum RTCIntersectContextFlags`.
 pub const RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT: c_int = 0;
 /// `enum RTCIntersectContextFlags`.
@@ -248,6 +250,7 @@ extern "C" {
     pub fn rtcGetDeviceError(device: RTCDevice) -> c_int;
     pub fn rtcNewScene(device: RTCDevice) -> RTCScene;
     pub fn rtcReleaseScene(scene: RTCScene);
+    pub fn rtcSetSceneFlags(scene: RTCScene, flags: c_int);
     pub fn rtcAttachGeometry(scene: RTCScene, geometry: RTCGeometry) -> c_uint;
     pub fn rtcCommitScene(scene: RTCScene);
     pub fn rtcNewGeometry(device: RTCDevice, kind: c_int) -> RTCGeometry;
