@@ -3,7 +3,8 @@
 //! [`Geometry::build`] converts the parsed `f64` shapes to the precision `T`,
 //! triangulates polygons, builds the BVH and reorders the primitives into leaf order.
 //! [`Geometry::intersect`] returns the closest hit in the ray's open interval
-//! $(t_{min}, t_{max})$; [`Geometry::occluded`] stops at the first hit.
+//! $(t_{min}, t_{max})$ ([`Geometry::cast`] the same before its hit record is built,
+//! [`Geometry::hit`] builds it); [`Geometry::occluded`] stops at the first hit.
 //!
 //! | NFF | stored as | kernel |
 //! |---|---|---|
