@@ -267,11 +267,11 @@ impl<T: Real> Best<T> {
 }
 
 /// What a closest-hit query finds before any hit record is built: the distance, the
-/// barycentrics and the primitive ([`Geometry::cast`]). This is what Embree's
-/// `rtcIntersect` returns (distance, barycentrics, primitive), and all a caller needs
-/// who wants only the distance or will shade later; [`Geometry::hit`] makes the full
-/// [`Hit`] from it, reading the arrays the traversal did not touch (vertex positions,
-/// normals, materials).
+/// barycentrics and the primitive ([`Geometry::cast`]). Embree's `rtcIntersect` reports
+/// the same (with an unnormalised geometric normal besides), and it is all a caller
+/// needs who wants only the distance or will shade later; [`Geometry::hit`] makes the
+/// full [`Hit`] from it, reading the arrays the traversal did not touch (vertex
+/// positions, normals, materials).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Intersection<T: Real>(Best<T>);
 
