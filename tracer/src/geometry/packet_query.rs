@@ -512,23 +512,10 @@ impl Geometry<f32> {
         switch: u32,
         frustum: bool,
     ) {
-        let n = S::LANES;
-        assert!(n <= MAX_LANES && rays.len() >= n && out.len() >= n);
-        if !self.packet_kernels() {
-            for (o, r) in out[..n].iter_mut().zip(&rays[..n]) {
-                *o = r.as_ref().and_then(|r| self.intersect(r));
-            }
-            return;
-        }
-        let mut best = [Best::none(0.0); MAX_LANES];
-        let valid = self.closest_packet::<S>(rays, switch, frustum, &mut best);
-        for (l, o) in out[..n].iter_mut().enumerate() {
-            *o = match &rays[l] {
-                Some(r) if valid & (1 << l) != 0 && best[l].r != NO_HIT => {
-                    Some(self.make_hit::<{ kinds::ALL }>(&best[l], r))
-                }
-                _ => None,
-            };
+        let mut found = [None; MAX_LANES];
+        self.cast_packet_switch::<S>(rays, &mut found, switch, frustum);
+        for ((o, r), f) in out[..S::LANES].iter_mut().zip(rays).zip(&found) {
+            *o = r.as_ref().zip(f.as_ref()).map(|(r, f)| self.hit(r, f));
         }
     }
 
@@ -545,6 +532,19 @@ impl Geometry<f32> {
         rays: &[Option<Ray<f32>>],
         out: &mut [Option<Intersection<f32>>],
     ) {
+        self.cast_packet_switch::<S>(rays, out, SWITCH, true);
+    }
+
+    /// [`Geometry::cast_lanes`] with the hand-over threshold `switch` and the beam walk
+    /// `frustum` of [`Geometry::intersect_packet_switch`].
+    #[inline(always)]
+    fn cast_packet_switch<S: SimdF32>(
+        &self,
+        rays: &[Option<Ray<f32>>],
+        out: &mut [Option<Intersection<f32>>],
+        switch: u32,
+        frustum: bool,
+    ) {
         let n = S::LANES;
         assert!(n <= MAX_LANES && rays.len() >= n && out.len() >= n);
         if !self.packet_kernels() {
@@ -554,7 +554,7 @@ impl Geometry<f32> {
             return;
         }
         let mut best = [Best::none(0.0); MAX_LANES];
-        let valid = self.closest_packet::<S>(rays, SWITCH, true, &mut best);
+        let valid = self.closest_packet::<S>(rays, switch, frustum, &mut best);
         for (l, o) in out[..n].iter_mut().enumerate() {
             *o = (valid & (1 << l) != 0 && best[l].r != NO_HIT).then_some(Intersection(best[l]));
         }
