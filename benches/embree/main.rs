@@ -42,6 +42,9 @@
 //! (embree/embree#387). Without the option Embree runs its default kernels, which the
 //! targets are measured against.
 //!
+//! **Tree width.** Where the CPU has AVX2 the tracer's single rays walk its eight-wide
+//! tree; `--four-wide` keeps them on the four-wide one, for a comparison in one binary.
+//!
 //! Each measurement is repeated `--runs` times, Embree (then Embree with user spheres,
 //! where measured) and the tracer interleaved round by round, and the median wall time is
 //! reported as Mrays/s, with Mrays per CPU second of all threads in parentheses (steadier
@@ -720,10 +723,13 @@ struct Args {
     user_spheres: bool,
     /// Build Embree's scenes in its robust mode (`RTC_SCENE_FLAG_ROBUST`).
     robust: bool,
+    /// The tracer's single rays walk the four-wide tree even where the CPU has AVX2
+    /// (`AccelOptions::eight_wide` off), for a comparison of the two in one run.
+    four_wide: bool,
 }
 
 const USAGE: &str = "usage: embree [--runs N] [--threads 1,2] [--sizes 512x512,1920x1080] \
-                     [--no-user-spheres] [--robust] SCENE.nff...";
+                     [--no-user-spheres] [--robust] [--four-wide] SCENE.nff...";
 
 fn parse_args() -> Result<Args, String> {
     let mut a = Args {
@@ -733,6 +739,7 @@ fn parse_args() -> Result<Args, String> {
         runs: 5,
         user_spheres: true,
         robust: false,
+        four_wide: false,
     };
     let mut it = std::env::args().skip(1);
     while let Some(arg) = it.next() {
@@ -758,6 +765,7 @@ fn parse_args() -> Result<Args, String> {
             }
             "--no-user-spheres" => a.user_spheres = false,
             "--robust" => a.robust = true,
+            "--four-wide" => a.four_wide = true,
             // cargo bench passes --bench to bench targets.
             "--bench" => {}
             s if s.starts_with('-') => return Err(format!("unknown option {s}\n{USAGE}")),
@@ -996,7 +1004,11 @@ fn main() -> std::process::ExitCode {
         let user = (args.user_spheres && has_spheres)
             .then(|| Embree::build(&desc, Spheres::User, args.robust));
         let s = Instant::now();
-        let scene = Scene::<f32>::from_desc(&desc, &AccelOptions::default());
+        let accel = AccelOptions {
+            eight_wide: !args.four_wide,
+            ..AccelOptions::default()
+        };
+        let scene = Scene::<f32>::from_desc(&desc, &accel);
         let tracer_build = s.elapsed().as_secs_f64();
         builds.push((
             name.clone(),

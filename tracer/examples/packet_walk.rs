@@ -5,7 +5,7 @@
 //! ```sh
 //! cargo run --profile perf -p tracer --example packet_walk -- [--runs N] [--threads N] \
 //!     [--isa sse2|avx2|avx512] [--size WxH] [--only single|binary|wide] \
-//!     [--traversal-cost C] [--max-leaf N] [--tile N] SCENE...
+//!     [--traversal-cost C] [--max-leaf N] [--tile N] [--four-wide] SCENE...
 //! ```
 //!
 //! Prints one Markdown row per scene: median Mrays per second of each way over `--runs`
@@ -85,6 +85,7 @@ fn parse_args() -> Result<Options, String> {
                 let v = value("--traversal-cost")?;
                 o.accel.traversal_cost = v.parse().map_err(|e| format!("--traversal-cost: {e}"))?;
             }
+            "--four-wide" => o.accel.eight_wide = false,
             "--max-leaf" => {
                 let v = value("--max-leaf")?;
                 o.accel.max_leaf_size = v.parse().map_err(|e| format!("--max-leaf: {e}"))?;

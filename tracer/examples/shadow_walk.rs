@@ -4,7 +4,7 @@
 //!
 //! ```sh
 //! cargo run --profile perf -p tracer --example shadow_walk -- [--runs N] [--threads N] \
-//!     [--size WxH] SCENE...
+//!     [--size WxH] [--four-wide] SCENE...
 //! ```
 //!
 //! Prints one Markdown row per scene: the shadow rays, the share blocked and the median
@@ -23,6 +23,7 @@ struct Options {
     runs: usize,
     threads: usize,
     size: (u32, u32),
+    four_wide: bool,
     scenes: Vec<String>,
 }
 
@@ -31,6 +32,7 @@ fn parse_args() -> Result<Options, String> {
         runs: 5,
         threads: 1,
         size: (512, 512),
+        four_wide: false,
         scenes: Vec::new(),
     };
     let mut args = std::env::args().skip(1);
@@ -57,6 +59,7 @@ fn parse_args() -> Result<Options, String> {
                     h.parse().map_err(|e| format!("--size: {e}"))?,
                 );
             }
+            "--four-wide" => o.four_wide = true,
             s if s.starts_with("--") => return Err(format!("unknown option {s}")),
             s => o.scenes.push(s.to_string()),
         }
@@ -137,7 +140,11 @@ fn main() -> ExitCode {
                 return ExitCode::from(2);
             }
         };
-        let scene: Scene<f32> = Scene::from_desc(&desc, &Default::default());
+        let accel = tracer::geometry::AccelOptions {
+            eight_wide: !o.four_wide,
+            ..Default::default()
+        };
+        let scene: Scene<f32> = Scene::from_desc(&desc, &accel);
         let rays = shadow_rays(&scene, o.size);
         let n = rays.len() as f64;
         let mut blocked = 0;

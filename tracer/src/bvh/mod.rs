@@ -10,7 +10,8 @@
 //! - [`traverse`]: ordered closest-hit and early-exit any-hit traversal with a
 //!   conservative slab test (Ize 2013).
 //! - [`wide`]: the same tree collapsed into four-wide nodes whose boxes are tested in
-//!   one packet, with the same ordered and early-exit traversals.
+//!   one packet, with the same ordered and early-exit traversals; and, for single
+//!   rays on CPUs with AVX2, into eight-wide nodes tested in one AVX register.
 //! - [`packet_traverse`]: packets of rays in SIMD lanes over either tree.
 //!
 //! Every box test is the one slab formula [`traverse::slab`] (the four-box test of a
@@ -25,13 +26,14 @@ pub mod wide;
 pub use build::{BuildConfig, BuildPrim};
 pub use node::{Bounds3, Node};
 pub use traverse::TraversalRay;
-pub use wide::Node4;
+pub use wide::{Node4, Node8};
 
 /// A flattened BVH: depth-first nodes plus the primitive ids in leaf order.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Bvh {
     nodes: Vec<Node>,
     wide: Vec<Node4>,
+    wide8: Vec<Node8>,
     refs: Vec<u32>,
     depth: usize,
     wide_depth: usize,
@@ -43,19 +45,52 @@ impl Bvh {
     /// # Panics
     /// If there are more than `u32::MAX` primitives.
     pub fn build(prims: &mut [BuildPrim], cfg: &BuildConfig) -> Self {
+        Self::build_widths(prims, cfg, false)
+    }
+
+    /// [`Bvh::build`], with the eight-wide tree as well ([`Bvh::build_eight_wide`]),
+    /// collapsed beside the four-wide one on the rayon pool when `cfg.parallel`.
+    ///
+    /// # Panics
+    /// If there are more than `u32::MAX` primitives.
+    pub fn build_with_eight_wide(prims: &mut [BuildPrim], cfg: &BuildConfig) -> Self {
+        Self::build_widths(prims, cfg, true)
+    }
+
+    fn build_widths(prims: &mut [BuildPrim], cfg: &BuildConfig, eight: bool) -> Self {
         assert!(
             u32::try_from(prims.len()).is_ok(),
             "too many primitives for a BVH"
         );
         let (nodes, depth) = build::build(prims, cfg);
-        let (wide, wide_depth) = wide::collapse(&nodes);
+        let four = || wide::collapse(&nodes);
+        let eight = || {
+            if eight {
+                wide::collapse(&nodes).0
+            } else {
+                Vec::new()
+            }
+        };
+        let ((wide, wide_depth), wide8) = if cfg.parallel {
+            rayon::join(four, eight)
+        } else {
+            (four(), eight())
+        };
         Self {
             nodes,
             wide,
+            wide8,
             refs: prims.iter().map(|p| p.id).collect(),
             depth,
             wide_depth,
         }
+    }
+
+    /// Collapses the binary tree into the eight-wide tree as well, which single rays
+    /// walk where the CPU has AVX2 ([`Bvh::traverse8`]). Call before the owner
+    /// regroups the leaves.
+    pub fn build_eight_wide(&mut self) {
+        self.wide8 = wide::collapse(&self.nodes).0;
     }
 
     /// The nodes, depth-first; the root is `nodes()[0]` (empty for no primitives).
@@ -93,6 +128,11 @@ impl Bvh {
     /// Bytes of the four-wide nodes plus references.
     pub fn wide_bytes(&self) -> usize {
         self.wide.len() * core::mem::size_of::<Node4>() + self.refs.len() * 4
+    }
+
+    /// Bytes of the eight-wide nodes (0 unless built).
+    pub fn wide8_bytes(&self) -> usize {
+        self.wide8.len() * core::mem::size_of::<Node8>()
     }
 
     /// SAH cost of the binary tree (MacDonald and Booth 1990):

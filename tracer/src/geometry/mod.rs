@@ -187,6 +187,10 @@ pub struct AccelOptions {
     pub traversal_cost: f32,
     /// Traverse the four-wide BVH (`true`) or the binary one.
     pub wide: bool,
+    /// With `wide`, single rays of `f32` scenes walk an eight-wide BVH (the same tree
+    /// collapsed into nodes of eight children) with AVX box tests, where the CPU has
+    /// AVX2 and FMA; packets keep the four-wide tree. Results are the same either way.
+    pub eight_wide: bool,
 }
 
 impl Default for AccelOptions {
@@ -200,6 +204,7 @@ impl Default for AccelOptions {
             parallel_build: true,
             traversal_cost: crate::bvh::build::TRAVERSAL_COST,
             wide: true,
+            eight_wide: true,
         }
     }
 }
@@ -229,6 +234,9 @@ pub struct GeometryStats {
     pub bvh_bytes: usize,
     /// Bytes of the four-wide BVH nodes and references.
     pub bvh_wide_bytes: usize,
+    /// Bytes of the eight-wide BVH nodes (0 where single rays walk the four-wide tree;
+    /// the references are shared).
+    pub bvh_wide8_bytes: usize,
     /// Bytes of primitive data (kernel data, ids, materials, normals).
     pub prim_bytes: usize,
     /// Wall time of the whole build (conversion, triangulation, BVH, reordering), ms.
@@ -236,11 +244,12 @@ pub struct GeometryStats {
 }
 
 impl GeometryStats {
-    /// BVH (both trees) plus primitive bytes per primitive in the BVH.
+    /// BVH (every tree) plus primitive bytes per primitive in the BVH.
     pub fn bytes_per_primitive(&self) -> f64 {
         let n = self.spheres + self.triangles + self.cones;
         let wide_nodes = self.bvh_wide_bytes.saturating_sub(4 * n);
-        (self.bvh_bytes + wide_nodes + self.prim_bytes) as f64 / n.max(1) as f64
+        (self.bvh_bytes + wide_nodes + self.bvh_wide8_bytes + self.prim_bytes) as f64
+            / n.max(1) as f64
     }
 }
 
@@ -320,6 +329,10 @@ pub struct Geometry<T: Real> {
     prims: Prims<T>,
     bvh: Option<Bvh>,
     wide: bool,
+    /// Single rays walk the eight-wide tree, with AVX box tests: an `f32` geometry
+    /// with a BVH, [`AccelOptions::wide`] and [`AccelOptions::eight_wide`], on a CPU
+    /// with AVX2 and FMA.
+    eight: bool,
     triangle_test: TriangleTest,
     bounds: Aabb<T>,
     stats: GeometryStats,
@@ -350,13 +363,22 @@ impl<T: Float> Geometry<T> {
         for p in &build_prims {
             total.union(&p.bounds());
         }
+        #[cfg(target_arch = "x86_64")]
+        let avx2 = vecexpr::simd::Isa::Avx2.is_available();
+        #[cfg(not(target_arch = "x86_64"))]
+        let avx2 = false;
+        let eight = opts.use_bvh && opts.wide && opts.eight_wide && T::AS_F32.is_some() && avx2;
         let bvh = opts.use_bvh.then(|| {
             let cfg = BuildConfig {
                 max_leaf_size: opts.max_leaf_size,
                 parallel: opts.parallel_build,
                 traversal_cost: opts.traversal_cost,
             };
-            let mut bvh = Bvh::build(&mut build_prims, &cfg);
+            let mut bvh = if eight {
+                Bvh::build_with_eight_wide(&mut build_prims, &cfg)
+            } else {
+                Bvh::build(&mut build_prims, &cfg)
+            };
             prims.reorder(&mut bvh);
             prims.group_leaves(&mut bvh);
             bvh
@@ -374,6 +396,7 @@ impl<T: Float> Geometry<T> {
             bvh_depth: bvh.as_ref().map_or(0, |b| b.depth()),
             bvh_bytes: bvh.as_ref().map_or(0, |b| b.bytes()),
             bvh_wide_bytes: bvh.as_ref().map_or(0, |b| b.wide_bytes()),
+            bvh_wide8_bytes: bvh.as_ref().map_or(0, |b| b.wide8_bytes()),
             prim_bytes: prims.bytes(),
             build_ms: start.elapsed().as_secs_f64() * 1e3,
         };
@@ -381,6 +404,7 @@ impl<T: Float> Geometry<T> {
             prims,
             bvh,
             wide: opts.wide,
+            eight,
             triangle_test: opts.triangle,
             bounds: Aabb::from_bounds(&total),
             stats,
@@ -520,9 +544,38 @@ impl<T: Float> Geometry<T> {
     }
 
     /// The cached occluder `*hint`, then the any-hit [`RayQuery`]; `*hint` becomes the
-    /// occluder found.
+    /// occluder found. Over the eight-wide tree where the geometry has it.
     #[inline(always)]
     fn any_hint<const WATERTIGHT: bool, const KINDS: u32>(
+        &self,
+        ray: &Ray<T>,
+        hint: &mut u32,
+    ) -> bool {
+        #[cfg(target_arch = "x86_64")]
+        if self.eight {
+            // SAFETY: `eight` is set only where the CPU has AVX2 and FMA.
+            return unsafe { self.any_hint_avx2::<WATERTIGHT, KINDS>(ray, hint) };
+        }
+        self.any_hint_in::<WATERTIGHT, KINDS, false>(ray, hint)
+    }
+
+    /// [`Geometry::any_hint`] over the eight-wide tree, compiled for AVX2.
+    ///
+    /// # Safety
+    /// As for [`Geometry::closest_best_avx2`].
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    #[inline(never)]
+    unsafe fn any_hint_avx2<const WATERTIGHT: bool, const KINDS: u32>(
+        &self,
+        ray: &Ray<T>,
+        hint: &mut u32,
+    ) -> bool {
+        self.any_hint_in::<WATERTIGHT, KINDS, true>(ray, hint)
+    }
+
+    #[inline(always)]
+    fn any_hint_in<const WATERTIGHT: bool, const KINDS: u32, const EIGHT: bool>(
         &self,
         ray: &Ray<T>,
         hint: &mut u32,
@@ -539,7 +592,7 @@ impl<T: Float> Geometry<T> {
         {
             return true;
         }
-        let (hit, found) = self.any_query::<WATERTIGHT, KINDS>(&rd);
+        let (hit, found) = self.any_query::<WATERTIGHT, KINDS, EIGHT>(&rd);
         // An unblocked ray clears the entry: lit regions then pay no hint test.
         *hint = found;
         hit
@@ -749,15 +802,46 @@ impl<T: Float> Geometry<T> {
             .map(|best| self.make_hit::<KINDS>(&best, ray))
     }
 
-    /// The winning candidate of the closest-hit [`RayQuery`] of one ray.
+    /// The winning candidate of the closest-hit [`RayQuery`] of one ray, over the
+    /// eight-wide tree where the geometry has it ([`Geometry::eight`]).
     #[inline(always)]
     fn closest_best<const WATERTIGHT: bool, const KINDS: u32>(
         &self,
         ray: &Ray<T>,
     ) -> Option<Best<T>> {
+        #[cfg(target_arch = "x86_64")]
+        if self.eight {
+            // SAFETY: `eight` is set only where the CPU has AVX2 and FMA.
+            return unsafe { self.closest_best_avx2::<WATERTIGHT, KINDS>(ray) };
+        }
+        self.closest_best_in::<WATERTIGHT, KINDS, false>(ray)
+    }
+
+    /// [`Geometry::closest_best`] over the eight-wide tree, compiled for AVX2.
+    ///
+    /// # Safety
+    /// The CPU has AVX2 and FMA, and the geometry the eight-wide tree
+    /// ([`Geometry::eight`]).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    #[inline(never)]
+    unsafe fn closest_best_avx2<const WATERTIGHT: bool, const KINDS: u32>(
+        &self,
+        ray: &Ray<T>,
+    ) -> Option<Best<T>> {
+        self.closest_best_in::<WATERTIGHT, KINDS, true>(ray)
+    }
+
+    /// [`Geometry::closest_best`] over the eight-wide tree (`EIGHT`, see [`RayQuery`])
+    /// or the four-wide one.
+    #[inline(always)]
+    fn closest_best_in<const WATERTIGHT: bool, const KINDS: u32, const EIGHT: bool>(
+        &self,
+        ray: &Ray<T>,
+    ) -> Option<Best<T>> {
         let rd = RayData::new(ray)?;
         let mut best = Best::none(rd.t_limit);
-        self.query(&mut RayQuery::<T, false, WATERTIGHT, KINDS> {
+        self.query(&mut RayQuery::<T, false, WATERTIGHT, KINDS, EIGHT> {
             g: self,
             rd: &rd,
             best: &mut best,
@@ -765,21 +849,48 @@ impl<T: Float> Geometry<T> {
         (best.r != NO_HIT).then_some(best)
     }
 
-    /// Is the ray blocked?
+    /// Is the ray blocked? Over the eight-wide tree where the geometry has it.
     #[inline(always)]
     fn any<const WATERTIGHT: bool, const KINDS: u32>(&self, ray: &Ray<T>) -> bool {
+        #[cfg(target_arch = "x86_64")]
+        if self.eight {
+            // SAFETY: `eight` is set only where the CPU has AVX2 and FMA.
+            return unsafe { self.any_avx2::<WATERTIGHT, KINDS>(ray) };
+        }
+        self.any_in::<WATERTIGHT, KINDS, false>(ray)
+    }
+
+    /// [`Geometry::any`] over the eight-wide tree, compiled for AVX2.
+    ///
+    /// # Safety
+    /// As for [`Geometry::closest_best_avx2`].
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    #[inline(never)]
+    unsafe fn any_avx2<const WATERTIGHT: bool, const KINDS: u32>(&self, ray: &Ray<T>) -> bool {
+        self.any_in::<WATERTIGHT, KINDS, true>(ray)
+    }
+
+    #[inline(always)]
+    fn any_in<const WATERTIGHT: bool, const KINDS: u32, const EIGHT: bool>(
+        &self,
+        ray: &Ray<T>,
+    ) -> bool {
         let Some(rd) = RayData::new(ray) else {
             return false;
         };
-        self.any_query::<WATERTIGHT, KINDS>(&rd).0
+        self.any_query::<WATERTIGHT, KINDS, EIGHT>(&rd).0
     }
 
     /// The any-hit [`RayQuery`] of one ray: whether it is blocked, and the occluder
     /// found (or [`NO_HIT`]).
     #[inline(always)]
-    fn any_query<const WATERTIGHT: bool, const KINDS: u32>(&self, rd: &RayData<T>) -> (bool, u32) {
+    fn any_query<const WATERTIGHT: bool, const KINDS: u32, const EIGHT: bool>(
+        &self,
+        rd: &RayData<T>,
+    ) -> (bool, u32) {
         let mut best = Best::none(rd.t_limit);
-        let hit = self.query(&mut RayQuery::<T, true, WATERTIGHT, KINDS> {
+        let hit = self.query(&mut RayQuery::<T, true, WATERTIGHT, KINDS, EIGHT> {
             g: self,
             rd,
             best: &mut best,

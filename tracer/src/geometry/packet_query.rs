@@ -832,7 +832,7 @@ impl<S: SimdF32> PacketVisitor<S> for ClosestPacket<'_, S> {
     fn handover(&mut self, bvh: &Bvh, node: u32, lanes: u32, _t_max: S) -> Option<S> {
         let (g, su) = (self.geometry, self.su);
         each_lane(lanes, |l| {
-            RayQuery::<f32, false, true, { kinds::ALL }> {
+            RayQuery::<f32, false, true, { kinds::ALL }, false> {
                 g,
                 rd: su.lane(l),
                 best: &mut self.best[l],
@@ -921,7 +921,7 @@ impl<S: SimdF32> PacketVisitor<S> for AnyPacket<'_, S> {
         each_lane(lanes & !done, |l| {
             let rd = su.lane(l);
             let mut best = Best::none(rd.t_limit);
-            let hit = RayQuery::<f32, true, true, { kinds::ALL }> {
+            let hit = RayQuery::<f32, true, true, { kinds::ALL }, false> {
                 g,
                 rd,
                 best: &mut best,

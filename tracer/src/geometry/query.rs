@@ -74,8 +74,18 @@ impl<T: Float> Geometry<T> {
 /// else its closest hit, every hit within `best.t` offered to `best`
 /// ([`Geometry::offer`]: the closest, and the earliest in the input among equally close
 /// ones). `WATERTIGHT` and `KINDS` as for `Geometry::test`.
-pub(super) struct RayQuery<'a, T: Float, const ANY: bool, const WATERTIGHT: bool, const KINDS: u32>
-{
+///
+/// With `EIGHT` the walk is that of the eight-wide tree ([`Bvh::traverse8`]): such a
+/// query must only be made inside code compiled for AVX2 and FMA, on a CPU that has
+/// them, for an `f32` geometry with the eight-wide tree (`Geometry::eight`).
+pub(super) struct RayQuery<
+    'a,
+    T: Float,
+    const ANY: bool,
+    const WATERTIGHT: bool,
+    const KINDS: u32,
+    const EIGHT: bool,
+> {
     pub(super) g: &'a Geometry<T>,
     pub(super) rd: &'a RayData<T>,
     /// The hit found so far: for the closest hit the best candidate, whose `t` bounds
@@ -84,8 +94,8 @@ pub(super) struct RayQuery<'a, T: Float, const ANY: bool, const WATERTIGHT: bool
     pub(super) best: &'a mut Best<T>,
 }
 
-impl<T: Float, const ANY: bool, const WATERTIGHT: bool, const KINDS: u32> Query
-    for RayQuery<'_, T, ANY, WATERTIGHT, KINDS>
+impl<T: Float, const ANY: bool, const WATERTIGHT: bool, const KINDS: u32, const EIGHT: bool> Query
+    for RayQuery<'_, T, ANY, WATERTIGHT, KINDS, EIGHT>
 {
     const KINDS: u32 = KINDS;
 
@@ -106,6 +116,16 @@ impl<T: Float, const ANY: bool, const WATERTIGHT: bool, const KINDS: u32> Query
 
     #[inline(always)]
     fn wide(&mut self, bvh: &Bvh) -> bool {
+        #[cfg(target_arch = "x86_64")]
+        if EIGHT {
+            if let Some(proof) = T::AS_F32 {
+                let (rd, t_max) = (self.rd, self.best.t);
+                // SAFETY: an `EIGHT` query is made only inside code compiled for AVX2
+                // and FMA on a CPU that has them (the contract of `EIGHT`, kept by
+                // `Geometry::closest_best` and `Geometry::any_query`).
+                return unsafe { bvh.traverse8::<T, ANY>(proof, &rd.traversal, t_max, self) };
+            }
+        }
         self.wide_from(bvh, 0)
     }
 
@@ -116,8 +136,8 @@ impl<T: Float, const ANY: bool, const WATERTIGHT: bool, const KINDS: u32> Query
     }
 }
 
-impl<T: Float, const ANY: bool, const WATERTIGHT: bool, const KINDS: u32>
-    RayQuery<'_, T, ANY, WATERTIGHT, KINDS>
+impl<T: Float, const ANY: bool, const WATERTIGHT: bool, const KINDS: u32, const EIGHT: bool>
+    RayQuery<'_, T, ANY, WATERTIGHT, KINDS, EIGHT>
 {
     /// The walk of the four-wide tree from wide node `start` (0 for the whole tree;
     /// the packet queries hand their last rays over at other nodes): whether the walk
@@ -129,8 +149,8 @@ impl<T: Float, const ANY: bool, const WATERTIGHT: bool, const KINDS: u32>
     }
 }
 
-impl<T: Float, const ANY: bool, const WATERTIGHT: bool, const KINDS: u32> LeafVisitor<T>
-    for RayQuery<'_, T, ANY, WATERTIGHT, KINDS>
+impl<T: Float, const ANY: bool, const WATERTIGHT: bool, const KINDS: u32, const EIGHT: bool>
+    LeafVisitor<T> for RayQuery<'_, T, ANY, WATERTIGHT, KINDS, EIGHT>
 {
     /// The tests of one leaf: the walk's new `t_max` if the leaf holds a hit.
     #[inline(always)]

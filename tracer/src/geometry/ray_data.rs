@@ -116,17 +116,17 @@ impl<T: Real> RayData<T> {
     /// empty interval.
     #[inline(always)]
     pub fn new(ray: &Ray<T>) -> Option<Self> {
-        let finite = ray
-            .origin
-            .iter()
-            .chain(ray.dir.iter())
-            .all(|x| x.is_finite());
+        // `x * 0` is zero for finite `x` and NaN for an infinite or NaN one, so the sum
+        // of the six products is zero exactly when every coordinate is finite: one
+        // test instead of six. The tests are combined without short-circuits (`&`),
+        // so that a valid ray takes one branch here, not six.
+        let (o, d, zero) = (&ray.origin, &ray.dir, T::ZERO);
+        let finite =
+            (o[0] * zero + o[1] * zero) + (o[2] * zero + d[0] * zero) + (d[1] * zero + d[2] * zero)
+                == zero;
         let dd = ray.dir.length_squared();
-        let valid = finite
-            && dd >= T::MIN_POSITIVE
-            && dd <= T::MAX
-            && !ray.t_min.is_nan()
-            && ray.t_max > ray.t_min;
+        // `t_max > t_min` is false when either is NaN.
+        let valid = finite & (dd >= T::MIN_POSITIVE) & (dd <= T::MAX) & (ray.t_max > ray.t_min);
         if !valid {
             return None;
         }
@@ -136,7 +136,12 @@ impl<T: Real> RayData<T> {
             origin: ray.origin,
             dir: ray.dir,
             t_min,
-            t_limit: ray.t_max.next_down(),
+            // An unbounded ray (every eye ray) skips `next_down`'s special cases.
+            t_limit: if ray.t_max == T::INFINITY {
+                T::MAX
+            } else {
+                ray.t_max.next_down()
+            },
             dd,
             inv_dd: dd.recip(),
             shear,

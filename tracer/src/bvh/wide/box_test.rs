@@ -14,7 +14,7 @@
 //! form for `f32` ([`Box4Ray::hit_bits`]). The test against the scalar test below
 //! (`packet_test_matches_the_scalar_test`) keeps the forms in step.
 
-use super::{Node4, WIDTH};
+use super::{Node4, Node8, WideNode, WIDTH, WIDTH8};
 use crate::bvh::traverse::TraversalRay;
 use crate::float::{Family, Float, ScalarOf};
 use vecexpr::typenum::U4;
@@ -58,33 +58,52 @@ pub struct Box4Ray<T: Real> {
     far: [usize; 3],
 }
 
-/// Bytes of one row `bounds[side][axis]` of a [`Node4`].
-const ROW: usize = core::mem::size_of::<[f32; WIDTH]>();
+/// Bytes of one row `bounds[side][axis]` of a [`WideNode<W>`].
+const fn row_bytes<const W: usize>() -> usize {
+    core::mem::size_of::<[f32; W]>()
+}
 
-/// The byte offset of row `bounds[side][axis]` in a [`Node4`] (`side` 0 or 1, `axis`
-/// below 3): `bounds` is the first field of the `repr(C)` node.
-const fn row_offset(side: usize, axis: usize) -> usize {
-    (side * 3 + axis) * ROW
+/// The byte offset of row `bounds[side][axis]` in a [`WideNode<W>`] (`side` 0 or 1,
+/// `axis` below 3): `bounds` is the first field of the `repr(C)` node.
+const fn row_offset<const W: usize>(side: usize, axis: usize) -> usize {
+    (side * 3 + axis) * row_bytes::<W>()
 }
 
 const _: () = assert!(core::mem::offset_of!(Node4, bounds) == 0);
+const _: () = assert!(core::mem::offset_of!(Node8, bounds) == 0);
 
 /// Row `bounds[side][axis]` of `node`, from its byte offset `row_offset(side, axis)`.
 /// (An offset held per ray saves the index arithmetic of `node.bounds[side][axis]`,
 /// two instructions a row, twelve a node.)
 #[inline(always)]
-fn plane(node: &Node4, offset: usize) -> &[f32; WIDTH] {
-    debug_assert!(offset.is_multiple_of(ROW) && offset <= row_offset(1, 2));
-    // SAFETY: `offset` is `row_offset(side, axis)` with `side < 2` and `axis < 3` (the
-    // only offsets `Box4Ray::new` makes, and its fields are private), so it is the byte
-    // offset of `node.bounds[side][axis]`, an aligned `[f32; WIDTH]` inside `*node`:
-    // `Node4` is `repr(C)` with `bounds: [[[f32; WIDTH]; 3]; 2]` first. The reference
-    // borrows `node`.
+fn plane<const W: usize>(node: &WideNode<W>, offset: usize) -> &[f32; W] {
+    debug_assert!(offset.is_multiple_of(row_bytes::<W>()) && offset <= row_offset::<W>(1, 2));
+    // SAFETY: `offset` is `row_offset::<W>(side, axis)` with `side < 2` and `axis < 3`
+    // (the only offsets `Box4Ray::new` and `Box8Ray::new` make, and their fields are
+    // private), so it is the byte offset of `node.bounds[side][axis]`, an aligned
+    // `[f32; W]` inside `*node`: `WideNode` is `repr(C)` with
+    // `bounds: [[[f32; W]; 3]; 2]` first. The reference borrows `node`.
     unsafe {
-        &*(node as *const Node4)
+        &*(node as *const WideNode<W>)
             .cast::<u8>()
             .add(offset)
-            .cast::<[f32; WIDTH]>()
+            .cast::<[f32; W]>()
+    }
+}
+
+/// The box test of one ray against the `W` children of a node, as the single-ray walk
+/// ([`Bvh::traverse4`](crate::bvh::Bvh::traverse4)) calls it: the hit lanes as bits and
+/// each lane's entry distance.
+pub trait NodeTest<T, const W: usize> {
+    /// Which children of `node` the ray overlaps within `(t_min, t_max]`
+    /// (conservatively), as bits `1 << lane`, and their entry distances.
+    fn node_hits(&self, node: &WideNode<W>, t_max: T) -> (u32, [T; W]);
+}
+
+impl<T: Float> NodeTest<T, WIDTH> for Box4Ray<T> {
+    #[inline(always)]
+    fn node_hits(&self, node: &Node4, t_max: T) -> (u32, [T; WIDTH]) {
+        self.hit_bits(node, t_max)
     }
 }
 
@@ -99,8 +118,8 @@ impl<T: Float> Box4Ray<T> {
             inv_far: ray.inv_far.map(P4::<T>::splat),
             t_min: P4::<T>::splat(ray.t_min),
             slack: ray.slack,
-            near: [0, 1, 2].map(|a| row_offset(side[a], a)),
-            far: [0, 1, 2].map(|a| row_offset(1 - side[a], a)),
+            near: [0, 1, 2].map(|a| row_offset::<WIDTH>(side[a], a)),
+            far: [0, 1, 2].map(|a| row_offset::<WIDTH>(1 - side[a], a)),
         }
     }
 
@@ -175,6 +194,86 @@ impl Box4Ray<f32> {
         t_near.store(&mut tn);
         (bits, tn)
     }
+}
+
+/// A [`TraversalRay`] prepared for the eight-wide box tests of one traversal, as
+/// [`Box4Ray`] is for the four-wide ones, in AVX registers.
+///
+/// Only `f32` rays have it (the proof `T::F32`), and it must only be made and used
+/// where the CPU has AVX2, inside code compiled for it: [`Bvh::traverse8`] says so.
+///
+/// [`Bvh::traverse8`]: crate::bvh::Bvh::traverse8
+#[cfg(target_arch = "x86_64")]
+pub struct Box8Ray<T: Float> {
+    proof: T::F32,
+    origin: [F32x8; 3],
+    inv_dir: [F32x8; 3],
+    inv_far: [F32x8; 3],
+    t_min: F32x8,
+    slack: f32,
+    /// As [`Box4Ray`]'s, over the rows of a [`Node8`].
+    near: [usize; 3],
+    far: [usize; 3],
+}
+
+#[cfg(target_arch = "x86_64")]
+use vecexpr::simd::F32x8;
+
+#[cfg(target_arch = "x86_64")]
+impl<T: Float> Box8Ray<T> {
+    /// The prepared form of `ray` (`proof` that `T` is `f32`).
+    #[inline(always)]
+    pub fn new(proof: T::F32, ray: &TraversalRay<T>) -> Self {
+        use vecexpr::Scalar;
+        let ray = T::to_f32::<TraversalRayOf>(proof, ray);
+        let side = ray.neg.map(usize::from);
+        Self {
+            proof,
+            origin: ray.origin.map(F32x8::splat),
+            inv_dir: ray.inv_dir.map(F32x8::splat),
+            inv_far: ray.inv_far.map(F32x8::splat),
+            t_min: F32x8::splat(ray.t_min),
+            slack: ray.slack,
+            near: [0, 1, 2].map(|a| row_offset::<WIDTH8>(side[a], a)),
+            far: [0, 1, 2].map(|a| row_offset::<WIDTH8>(1 - side[a], a)),
+        }
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+impl<T: Float> NodeTest<T, WIDTH8> for Box8Ray<T> {
+    /// The slab test of [`TraversalRay::hit_box`] for the eight children of `node`:
+    /// the operations of [`Box4Ray::hit_bits`] in the same order, lane by lane, so each
+    /// child gets the same answer and entry distance as in the four-wide tree.
+    #[inline(always)]
+    fn node_hits(&self, node: &Node8, t_max: T) -> (u32, [T; WIDTH8]) {
+        use vecexpr::simd::{SimdF32, SimdMask};
+        let t_max = *T::to_f32::<ScalarOf>(self.proof, &t_max);
+        let mut t_near = self.t_min;
+        let mut t_far = F32x8::splat(t_max * self.slack);
+        for a in 0..3 {
+            let near = F32x8::load(plane(node, self.near[a]));
+            let far = F32x8::load(plane(node, self.far[a]));
+            let o = self.origin[a];
+            let tn = (near - o) * self.inv_dir[a];
+            let tf = (far - o) * self.inv_far[a];
+            t_near = Scalar::max(tn, t_near);
+            t_far = Scalar::min(tf, t_far);
+        }
+        let bits = t_near.le(t_far).bitmask();
+        let mut tn = [0.0; WIDTH8];
+        t_near.store(&mut tn);
+        T::from_f32::<Bits8Of>(self.proof, (bits, tn))
+    }
+}
+
+struct TraversalRayOf;
+impl Family for TraversalRayOf {
+    type Of<T: Float> = TraversalRay<T>;
+}
+struct Bits8Of;
+impl Family for Bits8Of {
+    type Of<T: Float> = (u32, [T; WIDTH8]);
 }
 
 /// [`Family`]s of the types [`Box4Ray::hit_bits`] views as `f32`.

@@ -1,11 +1,12 @@
-//! The collapse of the binary tree into four-wide nodes (see [`super`] for the rule).
+//! The collapse of the binary tree into four- or eight-wide nodes (see [`super`] for
+//! the rule).
 
-use super::{Node4, WIDTH};
+use super::WideNode;
 use crate::bvh::node::{Bounds3, Node};
 
-/// Collapses a depth-first binary tree (root at 0) into wide nodes, depth-first, root
-/// at 0. Returns the nodes and the depth in wide levels.
-pub fn collapse(bin: &[Node]) -> (Vec<Node4>, usize) {
+/// Collapses a depth-first binary tree (root at 0) into `W`-wide nodes, depth-first,
+/// root at 0. Returns the nodes and the depth in wide levels.
+pub fn collapse<const W: usize>(bin: &[Node]) -> (Vec<WideNode<W>>, usize) {
     let mut out = Vec::with_capacity(bin.len() / 2 + 1);
     if bin.is_empty() {
         return (out, 0);
@@ -16,10 +17,10 @@ pub fn collapse(bin: &[Node]) -> (Vec<Node4>, usize) {
 
 /// Emits the wide node of binary node `at` and, recursively, its interior children.
 /// Returns the depth (levels) of the emitted subtree.
-fn emit(bin: &[Node], at: usize, out: &mut Vec<Node4>) -> usize {
+fn emit<const W: usize>(bin: &[Node], at: usize, out: &mut Vec<WideNode<W>>) -> usize {
     let idx = out.len();
-    out.push(Node4::EMPTY);
-    let mut slots = [0usize; WIDTH];
+    out.push(WideNode::EMPTY);
+    let mut slots = [0usize; W];
     let mut n;
     let node = &bin[at];
     if node.is_leaf() {
@@ -27,11 +28,11 @@ fn emit(bin: &[Node], at: usize, out: &mut Vec<Node4>) -> usize {
         n = 1;
     } else {
         // Start from the two children and open the interior child of largest surface
-        // area until four slots are filled or only leaves are left.
+        // area until the `W` slots are filled or only leaves are left.
         slots[0] = at + 1;
         slots[1] = node.offset as usize;
         n = 2;
-        while n < WIDTH {
+        while n < W {
             let mut open: Option<(usize, f32)> = None;
             for (i, &c) in slots[..n].iter().enumerate() {
                 if bin[c].is_leaf() {
@@ -52,7 +53,7 @@ fn emit(bin: &[Node], at: usize, out: &mut Vec<Node4>) -> usize {
             n += 1;
         }
     }
-    let mut wide = Node4::EMPTY;
+    let mut wide = WideNode::EMPTY;
     let mut depth = 1;
     for (lane, &c) in slots[..n].iter().enumerate() {
         let b = &bin[c];
@@ -93,27 +94,35 @@ mod tests {
             parallel: false,
             traversal_cost: 2.0,
         };
-        let bvh = Bvh::build(&mut prims, &cfg);
-        let mut seen = vec![0u32; prims.len()];
-        for n in bvh.wide_nodes() {
-            for i in 0..super::WIDTH {
-                if n.count[i] > 0 {
-                    for r in n.child[i]..n.child[i] + n.count[i] {
-                        seen[r as usize] += 1;
+        let mut bvh = Bvh::build(&mut prims, &cfg);
+        bvh.build_eight_wide();
+        check(bvh.wide_nodes(), prims.len());
+        check(bvh.wide8_nodes(), prims.len());
+        // Every four-wide level spans one or two binary levels.
+        assert!(bvh.wide_depth() * 2 >= bvh.depth() - 1);
+        assert!(bvh.wide_depth() <= bvh.depth());
+        let (_, depth8) = super::collapse::<{ super::super::WIDTH8 }>(bvh.nodes());
+        assert!(depth8 <= bvh.wide_depth() && depth8 * 3 >= bvh.depth() - 1);
+
+        fn check<const W: usize>(nodes: &[super::WideNode<W>], prims: usize) {
+            let mut seen = vec![0u32; prims];
+            for n in nodes {
+                for i in 0..W {
+                    if n.count[i] > 0 {
+                        for r in n.child[i]..n.child[i] + n.count[i] {
+                            seen[r as usize] += 1;
+                        }
                     }
                 }
             }
-        }
-        assert!(seen.iter().all(|&s| s == 1));
-        // Every wide level spans one or two binary levels.
-        assert!(bvh.wide_depth() * 2 >= bvh.depth() - 1);
-        assert!(bvh.wide_depth() <= bvh.depth());
-        // A node has fewer than four slots only when nothing is left to open: all its
-        // children are leaves.
-        for n in bvh.wide_nodes() {
-            let used = n.child.iter().filter(|&&c| c != EMPTY_SLOT).count();
-            if used < super::WIDTH {
-                assert!((0..used).all(|i| n.count[i] > 0), "{n:?}");
+            assert!(seen.iter().all(|&s| s == 1), "width {W}");
+            // A node has fewer than `W` slots only when nothing is left to open: all
+            // its children are leaves.
+            for n in nodes {
+                let used = n.child.iter().filter(|&&c| c != EMPTY_SLOT).count();
+                if used < W {
+                    assert!((0..used).all(|i| n.count[i] > 0), "{n:?}");
+                }
             }
         }
     }

@@ -1,8 +1,11 @@
-//! The single-ray walk of the four-wide tree, ordered for closest hits and early-exit
-//! for any hits.
+//! The single-ray walk of the wide trees, ordered for closest hits and early-exit for
+//! any hits: one walk for both widths, over the four-wide tree with SSE box tests
+//! ([`Bvh::traverse4`]) or the eight-wide tree with AVX ones ([`Bvh::traverse8`]).
 
-use super::box_test::Box4Ray;
-use super::{Node4, STACK_SIZE, WIDTH};
+#[cfg(target_arch = "x86_64")]
+use super::box_test::Box8Ray;
+use super::box_test::{Box4Ray, NodeTest};
+use super::{WideNode, STACK_SIZE, STACK_SIZE8, WIDTH};
 use crate::bvh::traverse::{LeafVisitor, TraversalRay};
 use crate::bvh::Bvh;
 use crate::float::Float;
@@ -45,23 +48,70 @@ impl Bvh {
         &self,
         start: u32,
         ray: &TraversalRay<T>,
+        t_max: T,
+        visit: &mut impl LeafVisitor<T>,
+    ) -> bool {
+        let boxes = Box4Ray::new(ray);
+        self.walk::<T, WIDTH, STACK_SIZE, ANY_HIT>(&self.wide, start, &boxes, ray, t_max, visit)
+    }
+
+    /// [`Bvh::traverse4`] over the eight-wide tree ([`Bvh::build_eight_wide`]), its
+    /// eight boxes tested in one AVX register (`proof` that `T` is `f32`). The same
+    /// leaves are reached with the same `t_max` bounds, so the closest hit is the same.
+    ///
+    /// # Safety
+    /// The CPU must have AVX2 and FMA ([`vecexpr::simd::Isa::Avx2`]), and the caller is
+    /// compiled with them (`#[target_feature(enable = "avx2,fma")]`): the walk is
+    /// inlined into it.
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    pub unsafe fn traverse8<T: Float, const ANY_HIT: bool>(
+        &self,
+        proof: T::F32,
+        ray: &TraversalRay<T>,
+        t_max: T,
+        visit: &mut impl LeafVisitor<T>,
+    ) -> bool {
+        debug_assert!(
+            !self.wide8.is_empty() || self.wide.is_empty(),
+            "the eight-wide tree was not built"
+        );
+        let boxes = Box8Ray::new(proof, ray);
+        self.walk::<T, { super::WIDTH8 }, STACK_SIZE8, ANY_HIT>(
+            &self.wide8,
+            0,
+            &boxes,
+            ray,
+            t_max,
+            visit,
+        )
+    }
+
+    /// The walk of [`Bvh::traverse4_from`] over the `W`-wide `nodes`, with the box
+    /// test `boxes` (prepared from `ray`) and a stack of `STACK` entries (the bound of
+    /// that width).
+    #[inline(always)]
+    fn walk<T: Float, const W: usize, const STACK: usize, const ANY_HIT: bool>(
+        &self,
+        nodes: &[WideNode<W>],
+        start: u32,
+        boxes: &impl NodeTest<T, W>,
+        ray: &TraversalRay<T>,
         mut t_max: T,
         visit: &mut impl LeafVisitor<T>,
     ) -> bool {
-        let nodes: &[Node4] = &self.wide;
         if nodes.is_empty() {
             return false;
         }
         // Left uninitialised: only the entries below `sp` are ever read, and zeroing
         // the whole array cost more than a typical query's box tests.
-        let mut stack = [const { MaybeUninit::<Entry<T>>::uninit() }; STACK_SIZE];
+        let mut stack = [const { MaybeUninit::<Entry<T>>::uninit() }; STACK];
         let mut sp = 0usize;
         let mut found = false;
         let mut at = start as usize;
-        let boxes = Box4Ray::new(ray);
         'walk: loop {
             let node = &nodes[at];
-            let (mut bits, tn) = boxes.hit_bits(node, t_max);
+            let (mut bits, tn) = boxes.node_hits(node, t_max);
             let mut entry = None;
             if bits != 0 {
                 let first = bits.trailing_zeros() as usize;
@@ -97,9 +147,9 @@ impl Bvh {
                     sp += 1;
                     entry = Some((node.child[near], node.count[near]));
                 } else {
-                    // Hit children sorted by entry distance (insertion sort of 3 or 4),
-                    // pushed farthest first so that pops come nearest first.
-                    let mut order = [first; WIDTH];
+                    // Hit children sorted by entry distance (insertion sort of 3 to
+                    // `W`), pushed farthest first so that pops come nearest first.
+                    let mut order = [first; W];
                     let mut k = 1;
                     while bits != 0 {
                         let i = bits.trailing_zeros() as usize;
@@ -183,11 +233,22 @@ mod tests {
         }
     }
 
-    /// The closest-hit walks of both trees reach the leaves on a ray nearest first
-    /// (which is what lets them stop early), whatever the ray's direction: a grid of
-    /// 8 x 8 unit boxes, one per leaf, 2 apart, crossed along every row and column both
-    /// ways. Only the boxes of the crossed row or column are reached, so at the wide
-    /// nodes above them the ray hits two children as well as three or four.
+    /// The eight-wide walk, in code compiled for AVX2 as its contract asks.
+    ///
+    /// # Safety
+    /// The CPU has AVX2 and FMA.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn walk8(bvh: &Bvh, ray: &TraversalRay<f32>, visit: &mut Order) -> bool {
+        // SAFETY: the caller's contract, and this function is compiled for AVX2 and FMA.
+        unsafe { bvh.traverse8::<f32, false>(crate::float::IsF32, ray, f32::INFINITY, visit) }
+    }
+
+    /// The closest-hit walks of all three trees reach the leaves on a ray nearest
+    /// first (which is what lets them stop early), whatever the ray's direction: a grid
+    /// of 8 x 8 unit boxes, one per leaf, 2 apart, crossed along every row and column
+    /// both ways. Only the boxes of the crossed row or column are reached, so at the
+    /// wide nodes above them the ray hits two children as well as three to eight.
     #[test]
     fn closest_hit_walks_reach_leaves_nearest_first() {
         const N: u32 = 8;
@@ -208,7 +269,10 @@ mod tests {
             parallel: false,
             traversal_cost: crate::bvh::build::TRAVERSAL_COST,
         };
-        let bvh = Bvh::build(&mut prims, &cfg);
+        let mut bvh = Bvh::build(&mut prims, &cfg);
+        bvh.build_eight_wide();
+        #[cfg(target_arch = "x86_64")]
+        let avx2 = vecexpr::simd::Isa::Avx2.is_available();
         let far = 2.0 * N as f32 + 4.0;
         for k in 0..N {
             let c = 2.0 * k as f32 + 0.5;
@@ -234,6 +298,13 @@ mod tests {
                 let mut binary = Order(Vec::new());
                 assert!(!bvh.traverse::<f32, false>(&ray, f32::INFINITY, &mut binary));
                 assert_eq!(binary.0, want, "binary tree, ray from {o:?} along {d:?}");
+                #[cfg(target_arch = "x86_64")]
+                if avx2 {
+                    let mut eight = Order(Vec::new());
+                    // SAFETY: the CPU has AVX2 and FMA (checked above).
+                    assert!(!unsafe { walk8(&bvh, &ray, &mut eight) });
+                    assert_eq!(eight.0, want, "eight-wide tree, ray from {o:?} along {d:?}");
+                }
             }
         }
     }
