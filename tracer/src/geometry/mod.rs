@@ -556,6 +556,17 @@ impl<T: Float> Geometry<T> {
             // SAFETY: `eight` is set only where the CPU has AVX2 and FMA.
             return unsafe { self.any_hint_avx2::<WATERTIGHT, KINDS>(ray, hint) };
         }
+        self.any_hint_four::<WATERTIGHT, KINDS>(ray, hint)
+    }
+
+    /// [`Geometry::any_hint`] over the four-wide tree, out of line (see
+    /// [`Geometry::closest_best_four`]).
+    #[inline(never)]
+    fn any_hint_four<const WATERTIGHT: bool, const KINDS: u32>(
+        &self,
+        ray: &Ray<T>,
+        hint: &mut u32,
+    ) -> bool {
         self.any_hint_in::<WATERTIGHT, KINDS, false>(ray, hint)
     }
 
@@ -814,6 +825,16 @@ impl<T: Float> Geometry<T> {
             // SAFETY: `eight` is set only where the CPU has AVX2 and FMA.
             return unsafe { self.closest_best_avx2::<WATERTIGHT, KINDS>(ray) };
         }
+        self.closest_best_four::<WATERTIGHT, KINDS>(ray)
+    }
+
+    /// [`Geometry::closest_best`] over the four-wide tree, out of line like the
+    /// eight-wide query, so that the choice between them stays small enough to inline.
+    #[inline(never)]
+    fn closest_best_four<const WATERTIGHT: bool, const KINDS: u32>(
+        &self,
+        ray: &Ray<T>,
+    ) -> Option<Best<T>> {
         self.closest_best_in::<WATERTIGHT, KINDS, false>(ray)
     }
 
@@ -857,6 +878,13 @@ impl<T: Float> Geometry<T> {
             // SAFETY: `eight` is set only where the CPU has AVX2 and FMA.
             return unsafe { self.any_avx2::<WATERTIGHT, KINDS>(ray) };
         }
+        self.any_four::<WATERTIGHT, KINDS>(ray)
+    }
+
+    /// [`Geometry::any`] over the four-wide tree, out of line (see
+    /// [`Geometry::closest_best_four`]).
+    #[inline(never)]
+    fn any_four<const WATERTIGHT: bool, const KINDS: u32>(&self, ray: &Ray<T>) -> bool {
         self.any_in::<WATERTIGHT, KINDS, false>(ray)
     }
 
