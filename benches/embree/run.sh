@@ -4,9 +4,10 @@
 # the bench with the `embree` feature and runs it on the seven classic SPD scenes, eye
 # rays at 512x512 and 1920x1080, 1 and 2 threads; for scenes with spheres also Embree with
 # the spheres as user geometry (not with --no-user-spheres); --robust builds Embree's
-# scenes in its robust mode (RTC_SCENE_FLAG_ROBUST). Prints Markdown tables.
+# scenes in its robust mode (RTC_SCENE_FLAG_ROBUST); --four-wide keeps the tracer's single
+# rays on its four-wide tree where the CPU has AVX2. Prints Markdown tables.
 # Usage: benches/embree/run.sh [--runs N] [--threads 1,2] [--sizes WxH,...] [--robust]
-#                              [--no-user-spheres] [SCENE.nff...]
+#                              [--no-user-spheres] [--four-wide] [SCENE.nff...]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 if [ ! -f /usr/include/embree3/rtcore.h ]; then
@@ -18,7 +19,7 @@ opts=() scenes=()
 while [ $# -gt 0 ]; do
   case $1 in
     --runs|--threads|--sizes) opts+=("$1" "$2"); shift 2 ;;
-    --no-user-spheres|--robust) opts+=("$1"); shift ;;
+    --no-user-spheres|--robust|--four-wide) opts+=("$1"); shift ;;
     *) scenes+=("$1"); shift ;;
   esac
 done
