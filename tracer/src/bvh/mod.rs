@@ -48,8 +48,9 @@ impl Bvh {
         Self::build_widths(prims, cfg, false)
     }
 
-    /// [`Bvh::build`], with the eight-wide tree as well ([`Bvh::build_eight_wide`]),
-    /// collapsed beside the four-wide one on the rayon pool when `cfg.parallel`.
+    /// [`Bvh::build`], with the eight-wide tree as well, which single rays walk where
+    /// the CPU has AVX2 ([`Bvh::traverse8`]): the binary tree collapsed a second time,
+    /// beside the four-wide collapse on the rayon pool when `cfg.parallel`.
     ///
     /// # Panics
     /// If there are more than `u32::MAX` primitives.
@@ -84,13 +85,6 @@ impl Bvh {
             depth,
             wide_depth,
         }
-    }
-
-    /// Collapses the binary tree into the eight-wide tree as well, which single rays
-    /// walk where the CPU has AVX2 ([`Bvh::traverse8`]). Call before the owner
-    /// regroups the leaves.
-    pub fn build_eight_wide(&mut self) {
-        self.wide8 = wide::collapse(&self.nodes).0;
     }
 
     /// The nodes, depth-first; the root is `nodes()[0]` (empty for no primitives).

@@ -137,7 +137,7 @@ impl<T: Float> Box4Ray<T> {
         if let Some(p) = T::AS_F32 {
             let ray = T::to_f32::<Box4RayOf>(p, self);
             let t_max = *T::to_f32::<ScalarOf>(p, &t_max);
-            return T::from_f32::<BitsOf>(p, ray.hit_bits_sse(node, t_max));
+            return T::from_f32::<BitsOf<WIDTH>>(p, ray.hit_bits_sse(node, t_max));
         }
         self.hit_bits_packets(node, t_max)
     }
@@ -263,7 +263,7 @@ impl<T: Float> NodeTest<T, WIDTH8> for Box8Ray<T> {
         let bits = t_near.le(t_far).bitmask();
         let mut tn = [0.0; WIDTH8];
         t_near.store(&mut tn);
-        T::from_f32::<Bits8Of>(self.proof, (bits, tn))
+        T::from_f32::<BitsOf<WIDTH8>>(self.proof, (bits, tn))
     }
 }
 
@@ -271,19 +271,16 @@ struct TraversalRayOf;
 impl Family for TraversalRayOf {
     type Of<T: Float> = TraversalRay<T>;
 }
-struct Bits8Of;
-impl Family for Bits8Of {
-    type Of<T: Float> = (u32, [T; WIDTH8]);
-}
 
 /// [`Family`]s of the types [`Box4Ray::hit_bits`] views as `f32`.
 struct Box4RayOf;
 impl Family for Box4RayOf {
     type Of<T: Float> = Box4Ray<T>;
 }
-struct BitsOf;
-impl Family for BitsOf {
-    type Of<T: Float> = (u32, [T; WIDTH]);
+/// The hit bits and entry distances of a `W`-wide box test.
+struct BitsOf<const W: usize>;
+impl<const W: usize> Family for BitsOf<W> {
+    type Of<T: Float> = (u32, [T; W]);
 }
 
 #[cfg(test)]

@@ -94,8 +94,7 @@ mod tests {
             parallel: false,
             traversal_cost: 2.0,
         };
-        let mut bvh = Bvh::build(&mut prims, &cfg);
-        bvh.build_eight_wide();
+        let bvh = Bvh::build_with_eight_wide(&mut prims, &cfg);
         check(bvh.wide_nodes(), prims.len());
         check(bvh.wide8_nodes(), prims.len());
         // Every four-wide level spans one or two binary levels.

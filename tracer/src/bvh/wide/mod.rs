@@ -156,7 +156,7 @@ impl Bvh {
         &self.wide
     }
 
-    /// The eight-wide tree (empty unless [`Bvh::build_eight_wide`] was called).
+    /// The eight-wide tree (empty unless built by [`Bvh::build_with_eight_wide`]).
     pub fn wide8_nodes(&self) -> &[Node8] {
         &self.wide8
     }

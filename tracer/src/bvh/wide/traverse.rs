@@ -20,6 +20,39 @@ struct Entry<T> {
     t: T,
 }
 
+/// Pushes slot `i` of `node`, with its entry distance from `tn`, onto the stack.
+#[inline(always)]
+fn push<T: Copy, const W: usize>(
+    stack: &mut [MaybeUninit<Entry<T>>],
+    sp: &mut usize,
+    node: &WideNode<W>,
+    tn: &[T; W],
+    i: usize,
+) {
+    stack[*sp].write(Entry {
+        child: node.child[i],
+        count: node.count[i],
+        t: tn[i],
+    });
+    *sp += 1;
+}
+
+/// Pushes every slot set in `bits`, in slot order.
+#[inline(always)]
+fn push_slots<T: Copy, const W: usize>(
+    stack: &mut [MaybeUninit<Entry<T>>],
+    sp: &mut usize,
+    node: &WideNode<W>,
+    tn: &[T; W],
+    mut bits: u32,
+) {
+    while bits != 0 {
+        let i = bits.trailing_zeros() as usize;
+        bits &= bits - 1;
+        push(stack, sp, node, tn, i);
+    }
+}
+
 impl Bvh {
     /// As [`Bvh::traverse`], over the four-wide tree: at each node the four child boxes
     /// are tested in one packet, the hit children are visited nearest first and the
@@ -55,7 +88,7 @@ impl Bvh {
         self.walk::<T, WIDTH, STACK_SIZE, ANY_HIT>(&self.wide, start, &boxes, ray, t_max, visit)
     }
 
-    /// [`Bvh::traverse4`] over the eight-wide tree ([`Bvh::build_eight_wide`]), its
+    /// [`Bvh::traverse4`] over the eight-wide tree ([`Bvh::build_with_eight_wide`]), its
     /// eight boxes tested in one AVX register (`proof` that `T` is `f32`). Where three
     /// or more children are hit, the nearest is visited first and the others are
     /// pushed unsorted (see the walk). The closest hit is the same as the four-wide
@@ -124,16 +157,7 @@ impl Bvh {
                     entry = Some((node.child[first], node.count[first]));
                 } else if ANY_HIT {
                     entry = Some((node.child[first], node.count[first]));
-                    while bits != 0 {
-                        let i = bits.trailing_zeros() as usize;
-                        bits &= bits - 1;
-                        stack[sp].write(Entry {
-                            child: node.child[i],
-                            count: node.count[i],
-                            t: tn[i],
-                        });
-                        sp += 1;
-                    }
+                    push_slots(&mut stack, &mut sp, node, &tn, bits);
                 } else if bits & (bits - 1) == 0 {
                     // Two children hit: visit the nearer, push the farther.
                     let second = bits.trailing_zeros() as usize;
@@ -142,12 +166,7 @@ impl Bvh {
                     } else {
                         (first, second)
                     };
-                    stack[sp].write(Entry {
-                        child: node.child[far],
-                        count: node.count[far],
-                        t: tn[far],
-                    });
-                    sp += 1;
+                    push(&mut stack, &mut sp, node, &tn, far);
                     entry = Some((node.child[near], node.count[near]));
                 } else if W > WIDTH {
                     // Eight-wide nodes: the nearest hit child is visited first and the
@@ -166,17 +185,7 @@ impl Bvh {
                         m &= m - 1;
                         near = if tn[i] < tn[near] { i } else { near };
                     }
-                    let mut push = all & !(1 << near);
-                    while push != 0 {
-                        let i = push.trailing_zeros() as usize;
-                        push &= push - 1;
-                        stack[sp].write(Entry {
-                            child: node.child[i],
-                            count: node.count[i],
-                            t: tn[i],
-                        });
-                        sp += 1;
-                    }
+                    push_slots(&mut stack, &mut sp, node, &tn, all & !(1 << near));
                     entry = Some((node.child[near], node.count[near]));
                 } else {
                     // Hit children sorted by entry distance (insertion sort of 3 to
@@ -195,12 +204,7 @@ impl Bvh {
                         k += 1;
                     }
                     for &i in order[1..k].iter().rev() {
-                        stack[sp].write(Entry {
-                            child: node.child[i],
-                            count: node.count[i],
-                            t: tn[i],
-                        });
-                        sp += 1;
+                        push(&mut stack, &mut sp, node, &tn, i);
                     }
                     let i = order[0];
                     entry = Some((node.child[i], node.count[i]));
@@ -302,8 +306,7 @@ mod tests {
             parallel: false,
             traversal_cost: crate::bvh::build::TRAVERSAL_COST,
         };
-        let mut bvh = Bvh::build(&mut prims, &cfg);
-        bvh.build_eight_wide();
+        let bvh = Bvh::build_with_eight_wide(&mut prims, &cfg);
         #[cfg(target_arch = "x86_64")]
         let avx2 = vecexpr::simd::Isa::Avx2.is_available();
         let far = 2.0 * N as f32 + 4.0;
