@@ -607,13 +607,36 @@ mod tests {
             f32::NAN,
         ];
         for x in f32s.into_iter().flat_map(|x| [x, -x]) {
-            assert_eq!(Real::next_down(x).to_bits(), f32::next_down(x).to_bits(), "{x:e}");
-            assert_eq!(Real::next_up(x).to_bits(), f32::next_up(x).to_bits(), "{x:e}");
+            assert_eq!(
+                Real::next_down(x).to_bits(),
+                f32::next_down(x).to_bits(),
+                "{x:e}"
+            );
+            assert_eq!(
+                Real::next_up(x).to_bits(),
+                f32::next_up(x).to_bits(),
+                "{x:e}"
+            );
         }
-        let f64s = [0.0f64, f64::from_bits(1), 1.0, f64::MAX, f64::INFINITY, f64::NAN];
+        let f64s = [
+            0.0f64,
+            f64::from_bits(1),
+            1.0,
+            f64::MAX,
+            f64::INFINITY,
+            f64::NAN,
+        ];
         for x in f64s.into_iter().flat_map(|x| [x, -x]) {
-            assert_eq!(Real::next_down(x).to_bits(), f64::next_down(x).to_bits(), "{x:e}");
-            assert_eq!(Real::next_up(x).to_bits(), f64::next_up(x).to_bits(), "{x:e}");
+            assert_eq!(
+                Real::next_down(x).to_bits(),
+                f64::next_down(x).to_bits(),
+                "{x:e}"
+            );
+            assert_eq!(
+                Real::next_up(x).to_bits(),
+                f64::next_up(x).to_bits(),
+                "{x:e}"
+            );
         }
     }
 

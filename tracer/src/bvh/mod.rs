@@ -11,7 +11,8 @@
 //!   conservative slab test (Ize 2013).
 //! - [`wide`]: the same tree collapsed into four-wide nodes whose boxes are tested in
 //!   one packet, with the same ordered and early-exit traversals; and, for single
-//!   rays on CPUs with AVX2, into eight-wide nodes tested in one AVX register.
+//!   rays and beams of eye rays on CPUs with AVX2, into eight-wide nodes tested in one
+//!   AVX register.
 //! - [`packet_traverse`]: packets of rays in SIMD lanes over either tree.
 //!
 //! Every box test is the one slab formula [`traverse::slab`] (the four-box test of a

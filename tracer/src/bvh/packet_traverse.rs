@@ -16,8 +16,12 @@
 //!   (SSE2), the same within 3 % for packets of eight (AVX2) on the classic scenes.
 //!   Where an octant's rays share their origin (eye rays of a pinhole camera), they
 //!   walk as one beam instead (`Frustum`, as Embree's coherent packets do): one
-//!   conservative test of a node's four boxes against the beam, and each ray's own box
-//!   test only at a leaf.
+//!   conservative test of a node's boxes against the beam, and each ray's own box test
+//!   only at a leaf. Packets of eight or more lanes (AVX2, AVX-512) walk the beam over
+//!   the eight-wide tree where the geometry has it, eight boxes in one AVX register:
+//!   0.87 to 0.99 of the instructions per ray of the four-wide beam on the classic
+//!   scenes (AVX2 packets of eight; `tracer/RESULTS.md`, "Geometry loads at the
+//!   leaves, and the beam on the eight-wide tree").
 //! - [`Bvh::traverse_packet`] walks the binary tree (`--binary-bvh`): children are
 //!   visited nearest first by the entry distance of the first ray that hits both; the
 //!   other child is pushed with its mask and, on pop, its box is tested again with the
@@ -30,9 +34,13 @@
 //! is the single ray's, bit for bit.
 
 use super::traverse::{slab, TraversalRay};
-use super::wide::{Leaf, Node4, EMPTY_SLOT, WIDTH};
+use super::wide::{Leaf, Node4, WideNode, EMPTY_SLOT, WIDTH};
+#[cfg(target_arch = "x86_64")]
+use super::wide::{Node8, WIDTH8};
 use super::Bvh;
 use core::mem::MaybeUninit;
+#[cfg(target_arch = "x86_64")]
+use vecexpr::simd::F32x8;
 use vecexpr::simd::{SimdF32, SimdMask};
 use vecexpr::Mask;
 
@@ -224,6 +232,9 @@ impl Bvh {
 /// The four-wide traversal's stack: entries pushed with the packet's lanes that hit
 /// them and those lanes' entry distances.
 const STACK4_SIZE: usize = super::wide::STACK_SIZE;
+/// The eight-wide tree's (the beam walk over it, [`Bvh::frustum_walk`]).
+#[cfg(target_arch = "x86_64")]
+const STACK8_SIZE: usize = super::wide::STACK_SIZE8;
 
 /// What [`Bvh::traverse4_packet`] asks of its caller: each method returns the rays' new
 /// `t_max` (a lane set to $-\infty$ takes no further part), or `None` to end the
@@ -242,12 +253,18 @@ pub trait PacketVisitor<S: SimdF32> {
 }
 
 impl<S: SimdF32> PacketRay<S> {
-    /// [`PacketRay::hit_box`] for slot `i` of a four-wide node, for rays whose direction
+    /// [`PacketRay::hit_box`] for slot `i` of a wide node, for rays whose direction
     /// signs are `neg` on every lane (so near and far planes are picked once for all of
     /// them, with no per-lane select): lane by lane the operations of
     /// [`TraversalRay::hit_box`].
     #[inline(always)]
-    fn hit_slot(&self, neg: [usize; 3], node: &Node4, i: usize, t_max: S) -> (S::Mask, S) {
+    fn hit_slot<const W: usize>(
+        &self,
+        neg: [usize; 3],
+        node: &WideNode<W>,
+        i: usize,
+        t_max: S,
+    ) -> (S::Mask, S) {
         let mut t = (self.t_min, t_max * self.slack);
         for (a, &n) in neg.iter().enumerate() {
             let near = S::splat(node.bounds[n][a][i]);
@@ -281,7 +298,8 @@ impl Bvh {
     /// 2012).
     ///
     /// With `frustum`, an octant's rays that share their origin walk as one beam
-    /// instead (`Bvh::frustum_walk`, on x86-64), without hand-over.
+    /// instead (`Bvh::frustum_walk`, on x86-64; over the eight-wide tree, where there
+    /// is one, for packets of eight or more lanes), without hand-over.
     ///
     /// Every ray takes part in each leaf its own traversal would reach with its current
     /// closest distance or a larger one, so what the geometry finds for each lane is
@@ -323,7 +341,26 @@ impl Bvh {
             #[cfg(target_arch = "x86_64")]
             if frustum {
                 if let Some(f) = Frustum::new(ray, lanes) {
-                    match self.frustum_walk(ray, &f, neg, lanes, t_max, visit) {
+                    // Packets of eight or more lanes run in code compiled for AVX2,
+                    // where the beam walks the eight-wide tree when there is one.
+                    let walked = if S::LANES >= 8 && !self.wide8_nodes().is_empty() {
+                        let beam = Beam8::new(&f, neg);
+                        self.frustum_walk::<S, WIDTH8, { STACK8_SIZE + WIDTH8 }>(
+                            self.wide8_nodes(),
+                            &beam,
+                            ray,
+                            neg,
+                            lanes,
+                            t_max,
+                            visit,
+                        )
+                    } else {
+                        let beam = Beam4::new(&f, neg);
+                        self.frustum_walk::<S, WIDTH, { STACK4_SIZE + WIDTH }>(
+                            nodes, &beam, ray, neg, lanes, t_max, visit,
+                        )
+                    };
+                    match walked {
                         Some(t) => t_max = t,
                         None => return t_max,
                     }
@@ -491,55 +528,41 @@ fn largest<S: SimdF32>(v: S, m: S::Mask) -> f32 {
 
 #[cfg(target_arch = "x86_64")]
 impl Bvh {
-    /// The four-wide walk of one octant's rays that share their origin, bounded as one
-    /// beam ([`Frustum`]): each node's four boxes are tested against the beam at once,
-    /// one SSE test instead of one test per box over the rays, and children are
-    /// visited nearest first by the beam's entry distance. At a leaf the rays are
-    /// tested against its box one by one ([`PacketRay::hit_slot`], the single-ray
-    /// test), so a ray takes part in a leaf exactly when its own test with its current
-    /// closest distance accepts the box: what [`Bvh::traverse4_packet`] guarantees, and
-    /// so each lane's result is the single ray's. `None` when `visit` ends the walk.
+    /// The walk of one octant's rays that share their origin, bounded as one beam
+    /// ([`Frustum`]), over the `W`-wide `nodes` (the four-wide tree, or the eight-wide
+    /// one for packets of eight or more lanes): each node's boxes are tested against
+    /// the beam at once (`beam`, one SSE or AVX test instead of one test per box over
+    /// the rays), and children are visited nearest first by the beam's entry distance.
+    /// At a leaf the rays are tested against its box one by one
+    /// ([`PacketRay::hit_slot`], the single-ray test), so a ray takes part in a leaf
+    /// exactly when its own test with its current closest distance accepts the box:
+    /// what [`Bvh::traverse4_packet`] guarantees, and so each lane's result is the
+    /// single ray's. `STACK` is the bound of the width's stack plus `W`. `None` when
+    /// `visit` ends the walk.
+    #[allow(clippy::too_many_arguments)] // the walk's state, all of it used per node
     #[inline(always)]
-    fn frustum_walk<S: SimdF32>(
+    fn frustum_walk<S: SimdF32, const W: usize, const STACK: usize>(
         &self,
+        nodes: &[WideNode<W>],
+        beam: &impl BeamTest<W>,
         ray: &PacketRay<S>,
-        f: &Frustum,
         neg: [usize; 3],
         lanes: u32,
         mut t_max: S,
         visit: &mut impl PacketVisitor<S>,
     ) -> Option<S> {
-        use vecexpr::simd::F32x4 as V;
-        use vecexpr::Scalar;
-        let nodes: &[Node4] = self.wide_nodes();
-        let sp4 = |x: [f32; 3]| x.map(V::splat);
-        let (o, inv_lo, inv_hi) = (sp4(f.origin), sp4(f.inv_lo), sp4(f.inv_hi));
-        let (far_lo, far_hi, t_min) = (sp4(f.far_lo), sp4(f.far_hi), V::splat(f.t_min));
         let slack = ray.slack.lane(0);
         let in_play = S::Mask::from_bitmask(lanes);
         // The pending slots: (node, slot) and the beam's entry distance. A node pushes
-        // all four of its slots before one is popped, one more than the other walk's
+        // all its hit slots before one is popped, one more than the other walk's
         // stack allows for; left uninitialised, only the entries below `sp` are read.
-        let mut stack = [const { MaybeUninit::<(u32, u32, f32)>::uninit() }; STACK4_SIZE + WIDTH];
+        let mut stack = [const { MaybeUninit::<(u32, u32, f32)>::uninit() }; STACK];
         let mut sp = 0usize;
         let mut limit = largest(t_max, in_play) * slack;
         let mut node = 0u32;
         loop {
-            // An interior node: test its four boxes against the beam.
-            let n = &nodes[node as usize];
-            let mut t_near = t_min;
-            let mut t_far = V::splat(limit);
-            for a in 0..3 {
-                let x = V::load(&n.bounds[neg[a]][a]) - o[a];
-                let tn = Scalar::min(x * inv_lo[a], x * inv_hi[a]);
-                let y = V::load(&n.bounds[1 - neg[a]][a]) - o[a];
-                let tf = Scalar::max(y * far_lo[a], y * far_hi[a]);
-                t_near = Scalar::max(tn, t_near);
-                t_far = Scalar::min(tf, t_far);
-            }
-            let mut hits = t_near.le(t_far).bitmask();
-            let mut tn = [0.0f32; 4];
-            t_near.store(&mut tn);
+            // An interior node: test its boxes against the beam.
+            let (mut hits, tn) = beam.hits(&nodes[node as usize], limit);
             // Push the hit slots farthest first, so the nearest is on top.
             let base = sp;
             while hits != 0 {
@@ -585,6 +608,89 @@ impl Bvh {
     }
 }
 
+/// The beam's test of the `W` boxes of a wide node ([`Bvh::frustum_walk`]): the hit
+/// slots as bits and the beam's entry distance per slot.
+#[cfg(target_arch = "x86_64")]
+trait BeamTest<const W: usize> {
+    fn hits(&self, node: &WideNode<W>, limit: f32) -> (u32, [f32; W]);
+}
+
+/// The beam of a [`Frustum`], splatted into the lanes of `V` (one lane per child of a
+/// node), with its near-plane side per axis.
+#[cfg(target_arch = "x86_64")]
+struct Beam<V> {
+    o: [V; 3],
+    inv_lo: [V; 3],
+    inv_hi: [V; 3],
+    far_lo: [V; 3],
+    far_hi: [V; 3],
+    t_min: V,
+    neg: [usize; 3],
+}
+
+#[cfg(target_arch = "x86_64")]
+impl<V: SimdF32> Beam<V> {
+    #[inline(always)]
+    fn new(f: &Frustum, neg: [usize; 3]) -> Self {
+        let sp = |x: [f32; 3]| x.map(V::splat);
+        Self {
+            o: sp(f.origin),
+            inv_lo: sp(f.inv_lo),
+            inv_hi: sp(f.inv_hi),
+            far_lo: sp(f.far_lo),
+            far_hi: sp(f.far_hi),
+            t_min: V::splat(f.t_min),
+            neg,
+        }
+    }
+
+    /// The test of the `W` boxes of `node` (`W` is `V::LANES`): per axis the near
+    /// distance is the smaller product of $p - o$ with the extreme near factors, the
+    /// far distance the larger product with the extreme far factors ([`Frustum`]).
+    #[inline(always)]
+    fn test<const W: usize>(&self, node: &WideNode<W>, limit: f32) -> (u32, [f32; W]) {
+        use vecexpr::Scalar;
+        let mut t_near = self.t_min;
+        let mut t_far = V::splat(limit);
+        for a in 0..3 {
+            let n = self.neg[a];
+            let x = V::load(&node.bounds[n][a]) - self.o[a];
+            let tn = Scalar::min(x * self.inv_lo[a], x * self.inv_hi[a]);
+            let y = V::load(&node.bounds[1 - n][a]) - self.o[a];
+            let tf = Scalar::max(y * self.far_lo[a], y * self.far_hi[a]);
+            t_near = Scalar::max(tn, t_near);
+            t_far = Scalar::min(tf, t_far);
+        }
+        let mut tn = [0.0f32; W];
+        t_near.store(&mut tn);
+        (t_near.le(t_far).bitmask(), tn)
+    }
+}
+
+/// The beam over the four boxes of a [`Node4`], in an SSE register.
+#[cfg(target_arch = "x86_64")]
+type Beam4 = Beam<vecexpr::simd::F32x4>;
+
+/// The beam over the eight boxes of a [`Node8`], in an AVX register: only in code
+/// compiled for AVX2, on a CPU that has it (the contract of [`F32x8`]).
+#[cfg(target_arch = "x86_64")]
+type Beam8 = Beam<F32x8>;
+
+#[cfg(target_arch = "x86_64")]
+impl BeamTest<WIDTH> for Beam4 {
+    #[inline(always)]
+    fn hits(&self, node: &Node4, limit: f32) -> (u32, [f32; WIDTH]) {
+        self.test(node, limit)
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+impl BeamTest<WIDTH8> for Beam8 {
+    #[inline(always)]
+    fn hits(&self, node: &Node8, limit: f32) -> (u32, [f32; WIDTH8]) {
+        self.test(node, limit)
+    }
+}
 #[cfg(all(test, target_arch = "x86_64"))]
 mod tests {
     use super::*;

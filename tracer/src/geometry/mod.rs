@@ -189,7 +189,8 @@ pub struct AccelOptions {
     pub wide: bool,
     /// With `wide`, single rays of `f32` scenes walk an eight-wide BVH (the same tree
     /// collapsed into nodes of eight children) with AVX box tests, where the CPU has
-    /// AVX2 and FMA; packets keep the four-wide tree. Results are the same either way.
+    /// AVX2 and FMA, and so do eye packets of eight or sixteen lanes walking as one
+    /// beam; other packets keep the four-wide tree. Results are the same either way.
     pub eight_wide: bool,
 }
 

@@ -9,8 +9,10 @@
 //! a single eye ray runs 10 to 21 % fewer instructions than on the four-wide tree, and
 //! single rays against Embree went from 0.93 to 1.03 (eye) and 0.86 to 1.01 (shadow)
 //! on the geometric mean (`tracer/RESULTS.md`, "An eight-wide tree for single rays").
-//! Packets keep the four-wide tree (their box test puts rays, not children, in the
-//! lanes); an eight-wide packet walk was not tried.
+//! Packets that test each child against their rays keep the four-wide tree (their box
+//! test puts rays, not children, in the lanes); eye packets that walk as one beam
+//! test a node's children against the beam, and take the eight-wide tree in AVX2 and
+//! AVX-512 code ([`Bvh::traverse4_packet`]).
 //!
 //! # Layout of a [`Node4`] (128 bytes, two cache lines; a [`Node8`] is the same over
 //! eight lanes, 256 bytes)
