@@ -195,25 +195,32 @@ impl<'a, S: SimdF32> Setup<'a, S> {
 
         let one = S::splat(1.0);
         let inv_dir = [one / dir[0], one / dir[1], one / dir[2]];
-        let mut t_limits = [0.0f32; MAX_LANES];
-        for (t, &m) in t_limits[..n].iter_mut().zip(&buf[row::T_MAX]) {
-            // As `RayData::new`: an unbounded ray (every eye ray) skips `next_down`'s
-            // special cases, which cost about 18 instructions a ray here.
-            *t = if m == f32::INFINITY {
-                f32::MAX
-            } else {
-                Real::next_down(m)
-            };
+        let mut t_limits = [f32::MAX; MAX_LANES];
+        // As `RayData::new`: an unbounded ray (every eye ray) skips `next_down`'s
+        // special cases; a packet of them skips the loop.
+        if t_max.eq_mask(S::splat(f32::INFINITY)).bitmask() & valid != valid {
+            for (t, &m) in t_limits[..n].iter_mut().zip(&buf[row::T_MAX]) {
+                if m != f32::INFINITY {
+                    *t = Real::next_down(m);
+                }
+            }
         }
-        // The shear when every valid ray has the same axes.
-        let axes = |l: usize| {
-            let d = vec3(buf[row::DIR][l], buf[row::DIR + 1][l], buf[row::DIR + 2][l]);
-            Shear::axes(&d)
-        };
+        // The shear when every valid ray has the same axes: `Shear::axes` is fixed by
+        // which of $|d|$ is largest and by the sign of that component, so the lanes
+        // agree when those masks do.
+        let a = [dir[0].abs(), dir[1].abs(), dir[2].abs()];
+        let (g01, g02, g12) = (a[0].gt(a[1]), a[0].gt(a[2]), a[1].gt(a[2]));
+        let kz0 = g01.and(g02).bitmask() & valid;
+        let kz1 = g01.not().and(g12).bitmask() & valid;
         let fl = valid.trailing_zeros() as usize;
-        let k = axes(fl);
-        let mut same_axes = true;
-        each_lane(valid & !(1 << fl), |l| same_axes &= axes(l) == k);
+        let k = Shear::axes(&vec3(
+            buf[row::DIR][fl],
+            buf[row::DIR + 1][fl],
+            buf[row::DIR + 2][fl],
+        ));
+        let uniform = |m: u32| m == 0 || m == valid;
+        let same_axes =
+            uniform(kz0) && uniform(kz1) && uniform(dir[k.2].lt(S::zero()).bitmask() & valid);
         // Not `same_axes.then(|| ..)`: a closure left out of line is compiled without
         // the caller's instruction set, and its vector divisions and products became
         // calls (`_mm256_div_ps`, `_mm256_mul_ps`).
