@@ -538,9 +538,9 @@ macro_rules! impl_real {
             }
             #[inline]
             fn next_down(self) -> Self {
-                // Positive finite values (a shadow ray's bound, say) are one step down
-                // in their bits; zero, negatives, infinities and NaN take nextUp's cases.
-                if self > 0.0 && self <= <$t>::MAX {
+                // A positive value is one step down in its bits (+inf's step down is
+                // MAX); zero, negatives, -inf and NaN take nextUp's cases.
+                if self > 0.0 {
                     return <$t>::from_bits(self.to_bits() - 1);
                 }
                 -(-self).next_up()

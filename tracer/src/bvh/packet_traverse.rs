@@ -34,9 +34,9 @@
 //! is the single ray's, bit for bit.
 
 use super::traverse::{slab, TraversalRay};
-use super::wide::{Leaf, Node4, WideNode, EMPTY_SLOT, WIDTH};
 #[cfg(target_arch = "x86_64")]
-use super::wide::{Node8, WIDTH8};
+use super::wide::WIDTH8;
+use super::wide::{Leaf, Node4, WideNode, EMPTY_SLOT, WIDTH};
 use super::Bvh;
 use core::mem::MaybeUninit;
 #[cfg(target_arch = "x86_64")]
@@ -344,8 +344,8 @@ impl Bvh {
                     // Packets of eight or more lanes run in code compiled for AVX2,
                     // where the beam walks the eight-wide tree when there is one.
                     let walked = if S::LANES >= 8 && !self.wide8_nodes().is_empty() {
-                        let beam = Beam8::new(&f, neg);
-                        self.frustum_walk::<S, WIDTH8, { STACK8_SIZE + WIDTH8 }>(
+                        let beam = Beam::<F32x8>::new(&f, neg);
+                        self.frustum_walk::<S, _, WIDTH8, { STACK8_SIZE + WIDTH8 }>(
                             self.wide8_nodes(),
                             &beam,
                             ray,
@@ -355,8 +355,8 @@ impl Bvh {
                             visit,
                         )
                     } else {
-                        let beam = Beam4::new(&f, neg);
-                        self.frustum_walk::<S, WIDTH, { STACK4_SIZE + WIDTH }>(
+                        let beam = Beam::<vecexpr::simd::F32x4>::new(&f, neg);
+                        self.frustum_walk::<S, _, WIDTH, { STACK4_SIZE + WIDTH }>(
                             nodes, &beam, ray, neg, lanes, t_max, visit,
                         )
                     };
@@ -541,10 +541,10 @@ impl Bvh {
     /// `visit` ends the walk.
     #[allow(clippy::too_many_arguments)] // the walk's state, all of it used per node
     #[inline(always)]
-    fn frustum_walk<S: SimdF32, const W: usize, const STACK: usize>(
+    fn frustum_walk<S: SimdF32, V: SimdF32, const W: usize, const STACK: usize>(
         &self,
         nodes: &[WideNode<W>],
-        beam: &impl BeamTest<W>,
+        beam: &Beam<V>,
         ray: &PacketRay<S>,
         neg: [usize; 3],
         lanes: u32,
@@ -608,15 +608,10 @@ impl Bvh {
     }
 }
 
-/// The beam's test of the `W` boxes of a wide node ([`Bvh::frustum_walk`]): the hit
-/// slots as bits and the beam's entry distance per slot.
-#[cfg(target_arch = "x86_64")]
-trait BeamTest<const W: usize> {
-    fn hits(&self, node: &WideNode<W>, limit: f32) -> (u32, [f32; W]);
-}
-
 /// The beam of a [`Frustum`], splatted into the lanes of `V` (one lane per child of a
-/// node), with its near-plane side per axis.
+/// node: an SSE register for a [`Node4`], an AVX one for a
+/// [`Node8`](super::wide::Node8), which only code compiled for AVX2 may make, the
+/// contract of [`F32x8`]), with its near-plane side per axis.
 #[cfg(target_arch = "x86_64")]
 struct Beam<V> {
     o: [V; 3],
@@ -644,12 +639,14 @@ impl<V: SimdF32> Beam<V> {
         }
     }
 
-    /// The test of the `W` boxes of `node` (`W` is `V::LANES`): per axis the near
-    /// distance is the smaller product of $p - o$ with the extreme near factors, the
-    /// far distance the larger product with the extreme far factors ([`Frustum`]).
+    /// The test of the `W` boxes of `node` (`W` is `V::LANES`): the hit slots as bits
+    /// and the beam's entry distance per slot. Per axis the near distance is the
+    /// smaller product of $p - o$ with the extreme near factors, the far distance the
+    /// larger product with the extreme far factors ([`Frustum`]).
     #[inline(always)]
-    fn test<const W: usize>(&self, node: &WideNode<W>, limit: f32) -> (u32, [f32; W]) {
+    fn hits<const W: usize>(&self, node: &WideNode<W>, limit: f32) -> (u32, [f32; W]) {
         use vecexpr::Scalar;
+        debug_assert_eq!(V::LANES, W, "one lane per child");
         let mut t_near = self.t_min;
         let mut t_far = V::splat(limit);
         for a in 0..3 {
@@ -667,30 +664,6 @@ impl<V: SimdF32> Beam<V> {
     }
 }
 
-/// The beam over the four boxes of a [`Node4`], in an SSE register.
-#[cfg(target_arch = "x86_64")]
-type Beam4 = Beam<vecexpr::simd::F32x4>;
-
-/// The beam over the eight boxes of a [`Node8`], in an AVX register: only in code
-/// compiled for AVX2, on a CPU that has it (the contract of [`F32x8`]).
-#[cfg(target_arch = "x86_64")]
-type Beam8 = Beam<F32x8>;
-
-#[cfg(target_arch = "x86_64")]
-impl BeamTest<WIDTH> for Beam4 {
-    #[inline(always)]
-    fn hits(&self, node: &Node4, limit: f32) -> (u32, [f32; WIDTH]) {
-        self.test(node, limit)
-    }
-}
-
-#[cfg(target_arch = "x86_64")]
-impl BeamTest<WIDTH8> for Beam8 {
-    #[inline(always)]
-    fn hits(&self, node: &Node8, limit: f32) -> (u32, [f32; WIDTH8]) {
-        self.test(node, limit)
-    }
-}
 #[cfg(all(test, target_arch = "x86_64"))]
 mod tests {
     use super::*;

@@ -196,13 +196,11 @@ impl<'a, S: SimdF32> Setup<'a, S> {
         let one = S::splat(1.0);
         let inv_dir = [one / dir[0], one / dir[1], one / dir[2]];
         let mut t_limits = [f32::MAX; MAX_LANES];
-        // As `RayData::new`: an unbounded ray (every eye ray) skips `next_down`'s
-        // special cases; a packet of them skips the loop.
+        // `next_down` lane by lane, as `RayData::new`; a packet of unbounded rays (every
+        // eye packet) keeps `next_down(inf)`, `f32::MAX`, without the loop.
         if t_max.eq_mask(S::splat(f32::INFINITY)).bitmask() & valid != valid {
             for (t, &m) in t_limits[..n].iter_mut().zip(&buf[row::T_MAX]) {
-                if m != f32::INFINITY {
-                    *t = Real::next_down(m);
-                }
+                *t = Real::next_down(m);
             }
         }
         // The shear when every valid ray has the same axes: `Shear::axes` is fixed by

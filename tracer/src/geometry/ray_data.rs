@@ -136,7 +136,9 @@ impl<T: Real> RayData<T> {
             origin: ray.origin,
             dir: ray.dir,
             t_min,
-            // An unbounded ray (every eye ray) skips `next_down`'s special cases.
+            // `next_down(inf)` is `MAX` too, but written out for an unbounded ray (every
+            // eye ray) the single eye ray ran 15 to 22 instructions fewer (teapot-s12
+            // 687 against 705, callgrind).
             t_limit: if ray.t_max == T::INFINITY {
                 T::MAX
             } else {
