@@ -487,6 +487,7 @@ impl Frustum {
         let m = S::Mask::from_bitmask(lanes);
         let first = lanes.trailing_zeros() as usize;
         let inf = S::splat(f32::INFINITY);
+        let slack = ray.slack.lane(0);
         let mut f = Self {
             origin: [0.0; 3],
             inv_lo: [0.0; 3],
@@ -496,16 +497,32 @@ impl Frustum {
             t_min: 0.0,
         };
         for a in 0..3 {
-            let (o, inv, far) = (ray.origin[a], ray.inv_dir[a], ray.inv_far[a]);
+            let (o, inv) = (ray.origin[a], ray.inv_dir[a]);
             f.origin[a] = o.lane(first);
             // One origin, and finite factors.
             let same = o.eq_mask(S::splat(f.origin[a]));
-            let finite = inv.abs().lt(inf).and(far.abs().lt(inf));
+            let finite = inv.abs().lt(inf);
             if same.and(finite).bitmask() & lanes != lanes {
                 return None;
             }
             (f.inv_lo[a], f.inv_hi[a]) = (smallest(inv, m), largest(inv, m));
-            (f.far_lo[a], f.far_hi[a]) = (smallest(far, m), largest(far, m));
+            // Each ray's far factor is its `inv_dir` times the positive `slack`, and a
+            // rounded product with a positive factor is monotonic: the extremes of the
+            // far factors are the products of the extreme `inv_dir`, bit for bit, with
+            // no reduction over the lanes. They are finite exactly when every ray's
+            // far factor is.
+            (f.far_lo[a], f.far_hi[a]) = (f.inv_lo[a] * slack, f.inv_hi[a] * slack);
+            debug_assert_eq!(
+                (f.far_lo[a].to_bits(), f.far_hi[a].to_bits()),
+                (
+                    smallest(ray.inv_far[a], m).to_bits(),
+                    largest(ray.inv_far[a], m).to_bits()
+                ),
+                "the far factors' extremes"
+            );
+            if !(f.far_lo[a].abs() < f32::INFINITY && f.far_hi[a].abs() < f32::INFINITY) {
+                return None;
+            }
         }
         f.t_min = smallest(ray.t_min, m);
         Some(f)
