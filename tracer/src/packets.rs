@@ -6,7 +6,7 @@
 //! the image a block of pixels at a time ([`block_shape`]: 2x2 for SSE2's four lanes,
 //! 4x2 for AVX2's eight, 4x4 for AVX-512's sixteen):
 //! 1. `eye_block` makes the block's eye rays ([`crate::camera::Camera::ray`] through
-//!    [`Grid::point`]) and traces them as one packet
+//!    [`Grid::point`], four at a time by `Camera::rays4`) and traces them as one packet
 //!    ([`crate::geometry::Geometry::intersect_packet`], run by the kernel compiled for the chosen
 //!    instruction set through [`vecexpr::simd::Isa::dispatch`]). The packet walks the
 //!    four-wide BVH together ([`crate::bvh::packet_traverse`]); in a leaf, spheres,
@@ -97,13 +97,36 @@ fn block_rays(
 ) -> [Option<Ray<f32>>; MAX_LANES] {
     let mut rays = [None; MAX_LANES];
     let (w, h) = win.size;
+    // The image-plane points, and which lanes lie on the grid.
+    let (mut px, mut py, mut on) = ([0.0f32; MAX_LANES], [0.0f32; MAX_LANES], 0u32);
     for j in 0..bh {
         for i in 0..bw {
             let (x, y) = (bx * bw + i, by * bh + j);
             if x < w && y < h {
-                let (px, py) = win.point::<f32>(grid, x, y);
-                rays[j * bw + i] = Some(cam.ray(px, py));
+                let k = j * bw + i;
+                (px[k], py[k]) = win.point::<f32>(grid, x, y);
+                on |= 1 << k;
             }
+        }
+    }
+    #[cfg(target_arch = "x86_64")]
+    {
+        // Four rays at a time ([`Camera::rays4`]; every block shape has a multiple of
+        // four lanes); lanes off the grid are computed for the point (0, 0) and dropped.
+        debug_assert!((bw * bh).is_multiple_of(4));
+        for k in (0..bw * bh).step_by(4) {
+            let four = |v: &[f32; MAX_LANES]| [v[k], v[k + 1], v[k + 2], v[k + 3]];
+            for (l, r) in cam.rays4(&four(&px), &four(&py)).into_iter().enumerate() {
+                if on & (1 << (k + l)) != 0 {
+                    rays[k + l] = Some(r);
+                }
+            }
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    for k in 0..bw * bh {
+        if on & (1 << k) != 0 {
+            rays[k] = Some(cam.ray(px[k], py[k]));
         }
     }
     rays
