@@ -5,7 +5,7 @@
 
 use crate::ray::Ray;
 use crate::scene::desc::CameraDesc;
-use vecexpr::{vec3, Expr, Mat3, Real, Vec3};
+use vecexpr::{vec3, Expr, Mat3, Real, Scalar, Vec3};
 
 /// A camera for an image of a given size.
 ///
@@ -74,10 +74,16 @@ impl<T: Real> Camera<T> {
     /// The unit direction through image-plane point $(\hat x, \hat y)$ (pixels).
     #[inline]
     pub fn direction(&self, px: T, py: T) -> Vec3<T> {
-        let two = T::from_f64(2.0);
-        let x = two * px / T::from_f64(self.width as f64) - T::ONE;
-        let y = T::ONE - two * py / T::from_f64(self.height as f64);
-        (&self.basis * vec3(T::ONE, x, y)).normalize()
+        direction(&self.basis, self.size(), px, py)
+    }
+
+    /// The image size as two values of `T`, the divisors of [`Camera::direction`].
+    #[inline]
+    fn size(&self) -> (T, T) {
+        (
+            T::from_f64(self.width as f64),
+            T::from_f64(self.height as f64),
+        )
     }
 
     /// The unit view direction $C_d$ (the basis' first column).
@@ -108,24 +114,22 @@ impl<T: Real> Camera<T> {
 #[cfg(target_arch = "x86_64")]
 impl Camera<f32> {
     /// The eye rays through the image-plane points `(px[i], py[i])`, four at a time on an
-    /// SSE register: ray `i` is [`Camera::ray`]`(px[i], py[i])` bit for bit, since
-    /// [`Camera::direction`]'s operations run in the same order in each lane (`vecexpr`'s
-    /// generic matrix product and `normalize`, whose slow path for extreme lengths is
-    /// taken lane by lane). One ray at a time, the two divisions, the square root and
+    /// SSE register: ray `i` is [`Camera::ray`]`(px[i], py[i])` bit for bit, since both
+    /// run the one formula of [`Camera::direction`] over `vecexpr`'s scalars (its matrix
+    /// product and `normalize`, whose slow path for extreme lengths is taken lane by
+    /// lane). One ray at a time, the two divisions, the square root and
     /// the reciprocal of `normalize` were 12 % of a render's samples on tetra-s6.
     #[inline]
     pub fn rays4(&self, px: &[f32; 4], py: &[f32; 4]) -> [Ray<f32>; 4] {
         use vecexpr::simd::{F32x4, SimdF32};
-        use vecexpr::Scalar;
         let sp = F32x4::splat;
-        let (two, one) = (sp(2.0), sp(1.0));
-        let x = two * F32x4::load(px) / sp(<f32 as Real>::from_f64(self.width as f64)) - one;
-        let y = one - two * F32x4::load(py) / sp(<f32 as Real>::from_f64(self.height as f64));
         let cols: [Vec3<F32x4>; 3] = core::array::from_fn(|c| {
             let v = self.basis.col(c);
             vec3(sp(v[0]), sp(v[1]), sp(v[2]))
         });
-        let d = (&Mat3::from_cols(cols) * vec3(one, x, y)).normalize();
+        let (w, h) = self.size();
+        let (px, py) = (F32x4::load(px), F32x4::load(py));
+        let d = direction(&Mat3::from_cols(cols), (sp(w), sp(h)), px, py);
         let mut lanes = [[0.0f32; 4]; 3];
         for (l, v) in lanes.iter_mut().zip([&d[0], &d[1], &d[2]]) {
             v.store(l);
@@ -134,6 +138,17 @@ impl Camera<f32> {
             Ray::new(self.position, vec3(lanes[0][i], lanes[1][i], lanes[2][i]))
         })
     }
+}
+
+/// The formula of [`Camera::direction`] for a `basis` and an image `size`, written once
+/// over `vecexpr`'s scalars: `f32` or `f64` for one ray, SIMD lanes for several
+/// ([`Camera::rays4`]), with the same operations in the same order in each lane.
+#[inline(always)]
+fn direction<S: Scalar>(basis: &Mat3<S>, (w, h): (S, S), px: S, py: S) -> Vec3<S> {
+    let (two, one) = (S::splat_f64(2.0), S::splat_f64(1.0));
+    let x = two * px / w - one;
+    let y = one - two * py / h;
+    (basis * vec3(one, x, y)).normalize()
 }
 
 /// The points of an image grid that eye rays pass through: grid point `(x, y)` is a

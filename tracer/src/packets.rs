@@ -338,18 +338,9 @@ pub(crate) fn radiance_tile<const FX: u32>(
     let mut eye = [[usize::MAX; MAX_LANES]; TILE];
     let mut packets = [([None; MAX_LANES], [None; MAX_LANES]); TILE];
     for (b, (index, packet)) in eye.iter_mut().zip(&mut packets).enumerate() {
-        let block = tile_block(tile, b);
-        eye_block(
-            scene,
-            cam,
-            isa,
-            grid,
-            win,
-            block,
-            &mut packet.0,
-            &mut packet.1,
-        );
-        for (e, ray) in index.iter_mut().zip(&packet.0) {
+        let (rays, hits) = packet;
+        eye_block(scene, cam, isa, grid, win, tile_block(tile, b), rays, hits);
+        for (e, ray) in index.iter_mut().zip(rays.iter()) {
             if ray.is_some() {
                 counts.eye += 1;
                 *e = nodes.len();

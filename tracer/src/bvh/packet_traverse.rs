@@ -520,7 +520,7 @@ impl Frustum {
                 ),
                 "the far factors' extremes"
             );
-            if !(f.far_lo[a].abs() < f32::INFINITY && f.far_hi[a].abs() < f32::INFINITY) {
+            if !(f.far_lo[a].is_finite() && f.far_hi[a].is_finite()) {
                 return None;
             }
         }
