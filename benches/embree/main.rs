@@ -57,7 +57,8 @@
 //! and this bench does not time). The
 //! agreement is the share of rays where both report the same hit or miss. Build times
 //! (from the parsed scene description, conversion included, on all cores; Embree's
-//! without creating the device) are printed too. The environment variable
+//! without creating the device) are printed too: medians of `--runs` builds of each
+//! side, in alternation. The environment variable
 //! `EMBREE_CONFIG` is passed to `rtcNewDevice`.
 
 mod ffi;
@@ -996,27 +997,44 @@ fn main() -> std::process::ExitCode {
             .map(|n| n.trim_end_matches(".gz").trim_end_matches(".nff"))
             .unwrap_or("?")
             .to_string();
-        let (embree, embree_build) = Embree::build(&desc, Spheres::BuiltIn, args.robust);
         let has_spheres = desc
             .shapes
             .iter()
             .any(|s| matches!(s.shape, Shape::Sphere { .. }));
-        let user = (args.user_spheres && has_spheres)
-            .then(|| Embree::build(&desc, Spheres::User, args.robust));
-        let s = Instant::now();
         let accel = AccelOptions {
             eight_wide: !args.four_wide,
             ..AccelOptions::default()
         };
-        let scene = Scene::<f32>::from_desc(&desc, &accel);
-        let tracer_build = s.elapsed().as_secs_f64();
+        // Both sides build `runs` times in alternation (the previous build released
+        // first), and the medians are reported; the last builds are the ones traced.
+        let (mut times_e, mut times_u, mut times_t) = (Vec::new(), Vec::new(), Vec::new());
+        let (mut embree, mut user, mut scene) = (None, None, None);
+        for _ in 0..args.runs.max(1) {
+            drop(embree.take());
+            let (e, te) = Embree::build(&desc, Spheres::BuiltIn, args.robust);
+            embree = Some(e);
+            times_e.push(te);
+            if args.user_spheres && has_spheres {
+                drop(user.take());
+                let (u, tu) = Embree::build(&desc, Spheres::User, args.robust);
+                user = Some(u);
+                times_u.push(tu);
+            }
+            drop(scene.take());
+            let s = Instant::now();
+            scene = Some(Scene::<f32>::from_desc(&desc, &accel));
+            times_t.push(s.elapsed().as_secs_f64());
+        }
+        let (Some(embree), Some(scene)) = (embree, scene) else {
+            unreachable!("at least one build runs");
+        };
         builds.push((
             name.clone(),
-            embree_build,
-            user.as_ref().map(|u| u.1),
-            tracer_build,
+            median(times_e),
+            (!times_u.is_empty()).then(|| median(times_u)),
+            median(times_t),
         ));
-        let user = user.as_ref().map(|u| &u.0);
+        let user = user.as_ref();
         for &t in &args.threads {
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(t)

@@ -34,6 +34,7 @@ pub mod float;
 pub mod geometry;
 pub mod image;
 pub mod packets;
+pub mod pages;
 pub mod ray;
 pub mod render;
 pub mod scene;

@@ -180,7 +180,7 @@ pub fn build(prims: &mut [BuildPrim], cfg: &BuildConfig) -> (Vec<Node>, usize) {
         measure(prims)
     };
     let tree = build_subtree(&cfg, prims, ext, 0, 0);
-    let mut nodes = Vec::with_capacity(count_nodes(&tree));
+    let mut nodes = crate::pages::vec_with_capacity(count_nodes(&tree));
     let depth = flatten(tree, &mut nodes);
     (nodes, depth)
 }

@@ -234,14 +234,15 @@ impl<T: Real> GeometryBuilder<T> {
                 }
             }
         }
+        use crate::pages::reserve;
         let p = &mut self.prims;
-        p.spheres.reserve(spheres);
-        p.sphere_info.reserve(spheres);
-        p.cones.reserve(cones);
-        p.cone_info.reserve(cones);
-        p.triangles.reserve(triangles);
-        p.triangle_info.reserve(triangles);
-        p.shading.reserve(shaded);
+        reserve(&mut p.spheres, spheres);
+        reserve(&mut p.sphere_info, spheres);
+        reserve(&mut p.cones, cones);
+        reserve(&mut p.cone_info, cones);
+        reserve(&mut p.triangles, triangles);
+        reserve(&mut p.triangle_info, triangles);
+        reserve(&mut p.shading, shaded);
     }
 
     pub(crate) fn push_shape(&mut self, id: u32, shape: &ShapeDesc) {

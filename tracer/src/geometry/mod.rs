@@ -380,7 +380,7 @@ impl<T: Float> Geometry<T> {
             } else {
                 Bvh::build(&mut build_prims, &cfg)
             };
-            prims.reorder(&mut bvh);
+            prims.reorder(&mut bvh, opts.parallel_build);
             prims.group_leaves(&mut bvh);
             bvh
         });

@@ -9,6 +9,10 @@ use super::triangle::{Tri4, Triangle, TRI4_LANES};
 use crate::bvh::{Bounds3, BuildPrim, Bvh};
 use vecexpr::{Real, Vec3};
 
+/// Fewest items for which [`Prims::build_prims`] and [`Prims::reorder`] split their work
+/// over the rayon pool.
+const PARALLEL_PRIMS: usize = 1 << 14;
+
 /// Bits of a reference that hold the type tag.
 pub(crate) const TAG_SHIFT: u32 = 30;
 /// Mask of the index part of a reference.
@@ -179,52 +183,44 @@ impl<T: Real> Prims<T> {
             let r = self.ref_at(k);
             BuildPrim::new(self.bounds_of(r), r)
         };
-        if parallel && n >= 1 << 14 {
+        let mut out = crate::pages::vec_with_capacity(n);
+        if parallel && n >= PARALLEL_PRIMS {
             use rayon::prelude::*;
-            (0..n).into_par_iter().map(make).collect()
+            (0..n).into_par_iter().map(make).collect_into_vec(&mut out);
         } else {
-            (0..n).map(make).collect()
+            out.extend((0..n).map(make));
         }
+        out
     }
 
     /// Reorders the primitive arrays into the BVH's leaf order and points the BVH's
-    /// references at the new positions.
-    pub fn reorder(&mut self, bvh: &mut Bvh) {
-        let mut spheres = Vec::with_capacity(self.spheres.len());
-        let mut sphere_info = Vec::with_capacity(self.spheres.len());
-        let mut triangles = Vec::with_capacity(self.triangles.len());
-        let mut triangle_info = Vec::with_capacity(self.triangles.len());
-        let mut cones = Vec::with_capacity(self.cones.len());
-        let mut cone_info = Vec::with_capacity(self.cones.len());
+    /// references at the new positions: one pass over the references lists, per kind,
+    /// the old indices in leaf order, then each array is gathered (in parallel for large
+    /// scenes when `parallel`).
+    pub fn reorder(&mut self, bvh: &mut Bvh, parallel: bool) {
+        use crate::pages::vec_with_capacity;
+        let mut spheres = vec_with_capacity(self.spheres.len());
+        let mut triangles = vec_with_capacity(self.triangles.len());
+        let mut cones = vec_with_capacity(self.cones.len());
         bvh.remap_refs(|_, r| {
-            let i = (r & INDEX_MASK) as usize;
-            match r >> TAG_SHIFT {
-                SPHERE => {
-                    spheres.push(self.spheres[i]);
-                    sphere_info.push(self.sphere_info[i]);
-                    make_ref(SPHERE, spheres.len() - 1)
-                }
-                TRIANGLE => {
-                    triangles.push(self.triangles[i]);
-                    triangle_info.push(self.triangle_info[i]);
-                    make_ref(TRIANGLE, triangles.len() - 1)
-                }
-                _ => {
-                    cones.push(self.cones[i]);
-                    cone_info.push(self.cone_info[i]);
-                    make_ref(CONE, cones.len() - 1)
-                }
-            }
+            let i = r & INDEX_MASK;
+            let (kind, order) = match r >> TAG_SHIFT {
+                SPHERE => (SPHERE, &mut spheres),
+                TRIANGLE => (TRIANGLE, &mut triangles),
+                _ => (CONE, &mut cones),
+            };
+            order.push(i);
+            make_ref(kind, order.len() - 1)
         });
         debug_assert_eq!(spheres.len(), self.spheres.len());
         debug_assert_eq!(triangles.len(), self.triangles.len());
         debug_assert_eq!(cones.len(), self.cones.len());
-        self.spheres = spheres;
-        self.sphere_info = sphere_info;
-        self.triangles = triangles;
-        self.triangle_info = triangle_info;
-        self.cones = cones;
-        self.cone_info = cone_info;
+        self.spheres = gather(&self.spheres, &spheres, parallel);
+        self.sphere_info = gather(&self.sphere_info, &spheres, parallel);
+        self.triangles = gather(&self.triangles, &triangles, parallel);
+        self.triangle_info = gather(&self.triangle_info, &triangles, parallel);
+        self.cones = gather(&self.cones, &cones, parallel);
+        self.cone_info = gather(&self.cone_info, &cones, parallel);
     }
 
     /// Copies the triangles of every four-wide leaf that holds only triangles into
@@ -235,6 +231,11 @@ impl<T: Real> Prims<T> {
     /// after [`Prims::reorder`]; the `triangles` array and the references stay, for
     /// the binary tree, packets, hit records and the shadow cache.
     pub fn group_leaves(&mut self, bvh: &mut Bvh) {
+        if self.triangles.is_empty() {
+            // No leaf to group; skips a pass over both wide trees.
+            self.tri4 = Vec::new();
+            return;
+        }
         let mut groups = Vec::new();
         let mut lanes: Vec<(u32, Triangle<T>)> = Vec::with_capacity(TRI4_LANES);
         bvh.regroup_wide_leaves(|refs| {
@@ -256,6 +257,21 @@ impl<T: Real> Prims<T> {
     }
 }
 
+/// `src[order[k]]` for every `k`, in parallel for long arrays when `parallel`.
+fn gather<X: Copy + Send + Sync>(src: &[X], order: &[u32], parallel: bool) -> Vec<X> {
+    let mut out = crate::pages::vec_with_capacity(order.len());
+    if parallel && order.len() >= PARALLEL_PRIMS {
+        use rayon::prelude::*;
+        order
+            .par_iter()
+            .map(|&i| src[i as usize])
+            .collect_into_vec(&mut out);
+    } else {
+        out.extend(order.iter().map(|&i| src[i as usize]));
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -267,6 +283,70 @@ mod tests {
         assert_eq!(core::mem::size_of::<Cone<f32>>(), 36);
         assert_eq!(core::mem::size_of::<Sphere<f64>>(), 32);
         assert_eq!(core::mem::size_of::<PrimInfo>(), 12);
+    }
+
+    #[test]
+    fn parallel_reorder_equals_serial_reorder() {
+        use crate::geometry::{AccelOptions, Geometry};
+        use crate::scene::desc::{Shape, ShapeDesc};
+        // Spheres, triangles and cones interleaved, more of them than the parallel
+        // threshold, so that the gathers run in parallel chunks.
+        let shapes: Vec<ShapeDesc> = (0..PARALLEL_PRIMS + 1000)
+            .map(|i| {
+                let x = (i * 7919 % 1000) as f64;
+                let y = (i / 1000) as f64;
+                let shape = match i % 3 {
+                    0 => Shape::Sphere {
+                        center: [x, y, 0.0],
+                        radius: 0.3,
+                        inside_visible: false,
+                    },
+                    1 => Shape::Polygon {
+                        vertices: vec![[x, y, 1.0], [x + 0.5, y, 1.0], [x, y + 0.5, 1.0]],
+                    },
+                    _ => Shape::Cone {
+                        base: [x, y, 2.0],
+                        base_radius: 0.2,
+                        apex: [x, y, 2.5],
+                        apex_radius: 0.1,
+                        inside_visible: false,
+                    },
+                };
+                ShapeDesc {
+                    shape,
+                    material: 0,
+                    line: i as u32 + 1,
+                }
+            })
+            .collect();
+        let build = |parallel_build| {
+            Geometry::<f32>::build(
+                &shapes,
+                &AccelOptions {
+                    parallel_build,
+                    ..AccelOptions::default()
+                },
+            )
+        };
+        let (p, s) = (build(true), build(false));
+        assert_eq!(p.prims.spheres, s.prims.spheres);
+        assert_eq!(p.prims.sphere_info, s.prims.sphere_info);
+        assert_eq!(p.prims.triangles, s.prims.triangles);
+        assert_eq!(p.prims.triangle_info, s.prims.triangle_info);
+        assert_eq!(p.prims.cones, s.prims.cones);
+        assert_eq!(p.prims.cone_info, s.prims.cone_info);
+        let (pb, sb) = (p.bvh().unwrap(), s.bvh().unwrap());
+        assert_eq!(pb.refs(), sb.refs());
+        // Every reference leads to the primitive it was built from: leaf order lists
+        // each shape once, and the kinds keep their shapes.
+        let mut seen = vec![false; shapes.len()];
+        for &r in pb.refs() {
+            let (id, _) = p.prims.key(r);
+            let kind = r >> TAG_SHIFT;
+            assert_eq!(kind, [SPHERE, TRIANGLE, CONE][id as usize % 3]);
+            assert!(!std::mem::replace(&mut seen[id as usize], true));
+        }
+        assert!(seen.iter().all(|&s| s));
     }
 
     #[test]

@@ -7,7 +7,7 @@ use crate::bvh::node::{Bounds3, Node};
 /// Collapses a depth-first binary tree (root at 0) into `W`-wide nodes, depth-first,
 /// root at 0. Returns the nodes and the depth in wide levels.
 pub fn collapse<const W: usize>(bin: &[Node]) -> (Vec<WideNode<W>>, usize) {
-    let mut out = Vec::with_capacity(bin.len() / 2 + 1);
+    let mut out = crate::pages::vec_with_capacity(bin.len() / 2 + 1);
     if bin.is_empty() {
         return (out, 0);
     }
@@ -28,20 +28,31 @@ fn emit<const W: usize>(bin: &[Node], at: usize, out: &mut Vec<WideNode<W>>) -> 
         n = 1;
     } else {
         // Start from the two children and open the interior child of largest surface
-        // area until the `W` slots are filled or only leaves are left.
+        // area (the first of equals) until the `W` slots are filled or only leaves are
+        // left. Each slot's area is computed once, when the slot is filled.
+        let area_of = |c: usize| {
+            let b = &bin[c];
+            (!b.is_leaf()).then(|| {
+                Bounds3 {
+                    lo: b.bounds[0],
+                    hi: b.bounds[1],
+                }
+                .half_area()
+            })
+        };
+        let mut areas = [None; W];
         slots[0] = at + 1;
         slots[1] = node.offset as usize;
+        areas[0] = area_of(slots[0]);
+        areas[1] = area_of(slots[1]);
         n = 2;
         while n < W {
             let mut open: Option<(usize, f32)> = None;
-            for (i, &c) in slots[..n].iter().enumerate() {
-                if bin[c].is_leaf() {
-                    continue;
-                }
-                let b = &bin[c].bounds;
-                let area = Bounds3 { lo: b[0], hi: b[1] }.half_area();
-                if open.is_none_or(|(_, a)| area > a) {
-                    open = Some((i, area));
+            for (i, a) in areas[..n].iter().enumerate() {
+                if let Some(area) = *a {
+                    if open.is_none_or(|(_, best)| area > best) {
+                        open = Some((i, area));
+                    }
                 }
             }
             let Some((i, _)) = open else {
@@ -50,6 +61,8 @@ fn emit<const W: usize>(bin: &[Node], at: usize, out: &mut Vec<WideNode<W>>) -> 
             let c = slots[i];
             slots[i] = c + 1;
             slots[n] = bin[c].offset as usize;
+            areas[i] = area_of(slots[i]);
+            areas[n] = area_of(slots[n]);
             n += 1;
         }
     }
