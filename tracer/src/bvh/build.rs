@@ -30,7 +30,7 @@
 //! bit-identical for any number of threads.
 
 use super::node::{Bounds3, Node};
-use vecexpr::Scalar;
+use vecexpr::{Mask, Scalar};
 
 /// Most bins per axis.
 pub const NUM_BINS: usize = 32;
@@ -96,6 +96,49 @@ impl Box4 {
             [self.hi[0], self.hi[1], self.hi[2]],
         ]
     }
+}
+
+/// Four `f32` lanes, the three axes side by side in the sweeps: an SSE register on
+/// x86-64, an array elsewhere.
+#[cfg(target_arch = "x86_64")]
+type Lanes = vecexpr::simd::F32x4;
+#[cfg(not(target_arch = "x86_64"))]
+type Lanes = vecexpr::Packet<f32, vecexpr::typenum::U4>;
+
+/// [`Lanes`] from an array.
+#[inline(always)]
+fn lanes(a: [f32; 4]) -> Lanes {
+    #[cfg(target_arch = "x86_64")]
+    return Lanes::from_array(a);
+    #[cfg(not(target_arch = "x86_64"))]
+    return Lanes::from_fn(|i| a[i]);
+}
+
+/// One step of a sweep: grows the accumulated boxes and counts of the three axes by
+/// their bins `i`, and returns the counts as `f32` lanes (exact below 2^24, and rounded
+/// as `u32 as f32` beyond).
+#[inline(always)]
+fn sweep_step(acc: &mut [Box4; 3], count: &mut [u32; 4], bins: &Bins, i: usize) -> Lanes {
+    for (a, acc) in acc.iter_mut().enumerate() {
+        acc.union(&bins.bounds[a][i]);
+    }
+    for (c, b) in count.iter_mut().zip(&bins.counts[i]) {
+        *c += b;
+    }
+    lanes(count.map(|c| c as f32))
+}
+
+/// The half surface areas of three boxes, box `a` in lane `a` (lane 3 is 0): per box
+/// the operations of [`Box4::half_area`], over the lanes.
+#[inline(always)]
+fn half_areas(b: &[Box4; 3]) -> Lanes {
+    // Each box's extents, clamped at 0 (`max` keeps 0 for NaN, as `f32::max` does),
+    // transposed so that `e[k]` holds the three boxes' extents along axis `k`.
+    let zero = Lanes::zero();
+    let d = b.map(|b| Scalar::max(lanes(b.hi) - lanes(b.lo), zero));
+    let e: [Lanes; 3] =
+        core::array::from_fn(|k| lanes([d[0].lane(k), d[1].lane(k), d[2].lane(k), 0.0]));
+    e[0] * e[1] + e[1] * e[2] + e[2] * e[0]
 }
 
 /// A primitive as the builder sees it: conservative bounds, their centroid, and an
@@ -315,17 +358,19 @@ fn measure(prims: &[BuildPrim]) -> Extent {
     }
 }
 
-/// Bins of one node for all three axes: bounds and primitive counts, per axis and bin.
+/// Bins of one node for all three axes: bounds per axis and bin, and primitive counts per
+/// bin with the axis as lane (lane 3 unused, kept 0), which the sweeps read as one
+/// four-lane array.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Bins {
     bounds: [[Box4; NUM_BINS]; 3],
-    counts: [[u32; NUM_BINS]; 3],
+    counts: [[u32; 4]; NUM_BINS],
 }
 
 impl Bins {
     const EMPTY: Self = Self {
         bounds: [[Box4::EMPTY; NUM_BINS]; 3],
-        counts: [[0; NUM_BINS]; 3],
+        counts: [[0; 4]; NUM_BINS],
     };
 
     /// Empties the first `nb` bins of every axis.
@@ -333,8 +378,8 @@ impl Bins {
     fn clear(&mut self, nb: usize) {
         for a in 0..3 {
             self.bounds[a][..nb].fill(Box4::EMPTY);
-            self.counts[a][..nb].fill(0);
         }
+        self.counts[..nb].fill([0; 4]);
     }
 
     /// Adds one primitive to its bin on every axis.
@@ -342,7 +387,7 @@ impl Bins {
     fn add(&mut self, p: &BuildPrim, m: &BinMap) {
         let idx = m.bins(&p.centroid);
         for (a, &i) in idx.iter().enumerate() {
-            self.counts[a][i] += 1;
+            self.counts[i][a] += 1;
             self.bounds[a][i].union(&p.bounds);
         }
     }
@@ -353,7 +398,11 @@ impl Bins {
         for a in 0..3 {
             for i in 0..nb {
                 self.bounds[a][i].union(&o.bounds[a][i]);
-                self.counts[a][i] += o.counts[a][i];
+            }
+        }
+        for (c, o) in self.counts[..nb].iter_mut().zip(&o.counts) {
+            for (c, o) in c.iter_mut().zip(o) {
+                *c += o;
             }
         }
     }
@@ -454,8 +503,8 @@ impl BinMap {
 struct Scratch {
     bins: Bins,
     other: Bins,
-    right_cost: [[f32; NUM_BINS]; 3],
-    right_count: [[u32; NUM_BINS]; 3],
+    right_cost: [Lanes; NUM_BINS],
+    right_count: [Lanes; NUM_BINS],
 }
 
 impl Scratch {
@@ -463,8 +512,8 @@ impl Scratch {
         Self {
             bins: Bins::EMPTY,
             other: Bins::EMPTY,
-            right_cost: [[0.0; NUM_BINS]; 3],
-            right_count: [[0; NUM_BINS]; 3],
+            right_cost: [Lanes::zero(); NUM_BINS],
+            right_count: [Lanes::zero(); NUM_BINS],
         }
     }
 }
@@ -546,40 +595,37 @@ fn split(
     let bins = &scratch.bins;
 
     // Sweeps: the cost of splitting after bin i is N_L A_L + N_R A_R. The three axes go
-    // side by side (three independent chains), the right-to-left sweep storing
-    // N_R A_R, the left-to-right one adding N_L A_L and keeping the cheapest.
+    // side by side in the lanes of one register (lane 3 holds no primitives, so it
+    // never has a valid split): the right-to-left sweep stores N_R A_R and N_R, the
+    // left-to-right one adds N_L A_L and keeps, per axis, the first of the cheapest.
     let right_cost = &mut scratch.right_cost;
     let right_count = &mut scratch.right_count;
     let mut acc = [Box4::EMPTY; 3];
-    let mut count = [0u32; 3];
+    let mut count = [0u32; 4];
     for i in (1..nb).rev() {
-        for a in 0..3 {
-            acc[a].union(&bins.bounds[a][i]);
-            count[a] += bins.counts[a][i];
-            right_count[a][i - 1] = count[a];
-            right_cost[a][i - 1] = count[a] as f32 * acc[a].half_area();
-        }
+        let n_r = sweep_step(&mut acc, &mut count, bins, i);
+        right_count[i - 1] = n_r;
+        right_cost[i - 1] = n_r * half_areas(&acc);
     }
+    let zero = Lanes::zero();
     let mut acc = [Box4::EMPTY; 3];
-    let mut count = [0u32; 3];
-    let mut best_cost = [0.0f32; 3];
-    let mut best_bin = [usize::MAX; 3];
+    let mut count = [0u32; 4];
+    let mut best_cost = zero;
+    // The best bin (exact in `f32`), -1 while an axis has no valid split.
+    let mut best_bin = Lanes::splat(-1.0);
     for i in 0..nb - 1 {
-        for a in 0..3 {
-            acc[a].union(&bins.bounds[a][i]);
-            count[a] += bins.counts[a][i];
-            let cost = count[a] as f32 * acc[a].half_area() + right_cost[a][i];
-            let valid = count[a] != 0 && right_count[a][i] != 0;
-            if valid && (best_bin[a] == usize::MAX || cost < best_cost[a]) {
-                best_cost[a] = cost;
-                best_bin[a] = i;
-            }
-        }
+        let n_l = sweep_step(&mut acc, &mut count, bins, i);
+        let cost = n_l * half_areas(&acc) + right_cost[i];
+        let valid = n_l.eq_mask(zero).or(right_count[i].eq_mask(zero)).not();
+        let take = valid.and(best_bin.lt(zero).or(cost.lt(best_cost)));
+        best_cost = Lanes::select(take, cost, best_cost);
+        best_bin = Lanes::select(take, Lanes::splat(i as f32), best_bin);
     }
     let mut best: Option<(f32, usize, usize)> = None;
     for a in 0..3 {
-        if best_bin[a] != usize::MAX && best.is_none_or(|(c, _, _)| best_cost[a] < c) {
-            best = Some((best_cost[a], a, best_bin[a]));
+        let (cost, bin) = (best_cost.lane(a), best_bin.lane(a));
+        if bin >= 0.0 && best.is_none_or(|(c, _, _)| cost < c) {
+            best = Some((cost, a, bin as usize));
         }
     }
 
@@ -815,7 +861,7 @@ mod tests {
             .unwrap();
         pool.install(|| bin_prims(&cfg(true), &prims, &map, &mut b));
         assert_eq!(a.bins, b.bins);
-        let total: u32 = a.bins.counts[0].iter().sum();
+        let total: u32 = a.bins.counts.iter().map(|c| c[0]).sum();
         assert_eq!(total as usize, prims.len());
         // Each axis's bins hold the primitives whose centroids `bin_of` maps there.
         for axis in 0..3 {
@@ -827,7 +873,8 @@ mod tests {
                     bin_of(p.centroid[axis], map.lo[axis], map.scale[axis], NUM_BINS)
                 );
             }
-            assert_eq!(counts, a.bins.counts[axis]);
+            let binned: [u32; NUM_BINS] = core::array::from_fn(|i| a.bins.counts[i][axis]);
+            assert_eq!(counts, binned);
         }
     }
 
