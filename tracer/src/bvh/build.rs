@@ -503,6 +503,11 @@ impl BinMap {
 struct Scratch {
     bins: Bins,
     other: Bins,
+    sweep: SweepScratch,
+}
+
+/// The right-to-left sweep's results of [`best_split`], per bin.
+struct SweepScratch {
     right_cost: [Lanes; NUM_BINS],
     right_count: [Lanes; NUM_BINS],
 }
@@ -512,8 +517,10 @@ impl Scratch {
         Self {
             bins: Bins::EMPTY,
             other: Bins::EMPTY,
-            right_cost: [Lanes::zero(); NUM_BINS],
-            right_count: [Lanes::zero(); NUM_BINS],
+            sweep: SweepScratch {
+                right_cost: [Lanes::zero(); NUM_BINS],
+                right_count: [Lanes::zero(); NUM_BINS],
+            },
         }
     }
 }
@@ -594,40 +601,7 @@ fn split(
     bin_prims(cfg, prims, &map, scratch);
     let bins = &scratch.bins;
 
-    // Sweeps: the cost of splitting after bin i is N_L A_L + N_R A_R. The three axes go
-    // side by side in the lanes of one register (lane 3 holds no primitives, so it
-    // never has a valid split): the right-to-left sweep stores N_R A_R and N_R, the
-    // left-to-right one adds N_L A_L and keeps, per axis, the first of the cheapest.
-    let right_cost = &mut scratch.right_cost;
-    let right_count = &mut scratch.right_count;
-    let mut acc = [Box4::EMPTY; 3];
-    let mut count = [0u32; 4];
-    for i in (1..nb).rev() {
-        let n_r = sweep_step(&mut acc, &mut count, bins, i);
-        right_count[i - 1] = n_r;
-        right_cost[i - 1] = n_r * half_areas(&acc);
-    }
-    let zero = Lanes::zero();
-    let mut acc = [Box4::EMPTY; 3];
-    let mut count = [0u32; 4];
-    let mut best_cost = zero;
-    // The best bin (exact in `f32`), -1 while an axis has no valid split.
-    let mut best_bin = Lanes::splat(-1.0);
-    for i in 0..nb - 1 {
-        let n_l = sweep_step(&mut acc, &mut count, bins, i);
-        let cost = n_l * half_areas(&acc) + right_cost[i];
-        let valid = n_l.eq_mask(zero).or(right_count[i].eq_mask(zero)).not();
-        let take = valid.and(best_bin.lt(zero).or(cost.lt(best_cost)));
-        best_cost = Lanes::select(take, cost, best_cost);
-        best_bin = Lanes::select(take, Lanes::splat(i as f32), best_bin);
-    }
-    let mut best: Option<(f32, usize, usize)> = None;
-    for a in 0..3 {
-        let (cost, bin) = (best_cost.lane(a), best_bin.lane(a));
-        if bin >= 0.0 && best.is_none_or(|(c, _, _)| cost < c) {
-            best = Some((cost, a, bin as usize));
-        }
-    }
+    let best = best_split(bins, nb, &mut scratch.sweep);
 
     let area = ext.bounds.half_area();
     if let Some((cost, axis, bin)) = best {
@@ -666,6 +640,50 @@ fn split(
     } else {
         Some(median_split(prims, centroids))
     }
+}
+
+/// The cheapest split of binned bins `0..nb`: `Some((N_L A_L + N_R A_R, axis, bin))`
+/// for the split after `bin`, the first of equals on the lowest axis, or `None` when no
+/// axis has a split with primitives on both sides.
+///
+/// The three axes go side by side in the lanes of one register (lane 3 holds no
+/// primitives, so it never has a valid split): the right-to-left sweep stores $N_R A_R$
+/// and $N_R$, the left-to-right one adds $N_L A_L$ and keeps, per axis, the first of the
+/// cheapest. Without branches, builds take 9 to 13 % fewer instructions than with the
+/// same sweeps axis by axis, and the trees are the same (`RESULTS.md`, "Builds").
+#[inline(always)]
+fn best_split(bins: &Bins, nb: usize, scratch: &mut SweepScratch) -> Option<(f32, usize, usize)> {
+    let right_cost = &mut scratch.right_cost;
+    let right_count = &mut scratch.right_count;
+    let mut acc = [Box4::EMPTY; 3];
+    let mut count = [0u32; 4];
+    for i in (1..nb).rev() {
+        let n_r = sweep_step(&mut acc, &mut count, bins, i);
+        right_count[i - 1] = n_r;
+        right_cost[i - 1] = n_r * half_areas(&acc);
+    }
+    let zero = Lanes::zero();
+    let mut acc = [Box4::EMPTY; 3];
+    let mut count = [0u32; 4];
+    let mut best_cost = zero;
+    // The best bin (exact in `f32`), -1 while an axis has no valid split.
+    let mut best_bin = Lanes::splat(-1.0);
+    for i in 0..nb - 1 {
+        let n_l = sweep_step(&mut acc, &mut count, bins, i);
+        let cost = n_l * half_areas(&acc) + right_cost[i];
+        let valid = n_l.eq_mask(zero).or(right_count[i].eq_mask(zero)).not();
+        let take = valid.and(best_bin.lt(zero).or(cost.lt(best_cost)));
+        best_cost = Lanes::select(take, cost, best_cost);
+        best_bin = Lanes::select(take, Lanes::splat(i as f32), best_bin);
+    }
+    let mut best: Option<(f32, usize, usize)> = None;
+    for a in 0..3 {
+        let (cost, bin) = (best_cost.lane(a), best_bin.lane(a));
+        if bin >= 0.0 && best.is_none_or(|(c, _, _)| cost < c) {
+            best = Some((cost, a, bin as usize));
+        }
+    }
+    best
 }
 
 /// May a node at `depth` with `n` primitives split by the SAH (which may peel off a
@@ -876,6 +894,75 @@ mod tests {
             let binned: [u32; NUM_BINS] = core::array::from_fn(|i| a.bins.counts[i][axis]);
             assert_eq!(counts, binned);
         }
+    }
+
+    /// The SAH rule of [`best_split`] written axis by axis and split by split, with the
+    /// same `f32` operations in the same order.
+    fn best_split_reference(bins: &Bins, nb: usize) -> Option<(f32, usize, usize)> {
+        let mut best: Option<(f32, usize, usize)> = None;
+        for a in 0..3 {
+            for i in 0..nb - 1 {
+                let (mut left, mut right) = (Box4::EMPTY, Box4::EMPTY);
+                let (mut n_l, mut n_r) = (0u32, 0u32);
+                for j in 0..=i {
+                    left.union(&bins.bounds[a][j]);
+                    n_l += bins.counts[j][a];
+                }
+                for j in (i + 1..nb).rev() {
+                    right.union(&bins.bounds[a][j]);
+                    n_r += bins.counts[j][a];
+                }
+                if n_l == 0 || n_r == 0 {
+                    continue;
+                }
+                let cost = n_l as f32 * left.half_area() + n_r as f32 * right.half_area();
+                if best.is_none_or(|(c, _, _)| cost < c) {
+                    best = Some((cost, a, i));
+                }
+            }
+        }
+        best
+    }
+
+    #[test]
+    fn sweeps_over_lanes_follow_the_sah_rule() {
+        let mut s = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = move |m: u64| {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            s % m
+        };
+        let mut scratch = Box::new(Scratch::new());
+        let mut found = 0;
+        for round in 0..2000 {
+            let nb = 2 + next(NUM_BINS as u64 - 1) as usize;
+            let mut bins = Bins::EMPTY;
+            for a in 0..3 {
+                for i in 0..nb {
+                    // Empty bins, and repeated boxes (equal costs) now and then.
+                    if next(4) == 0 {
+                        continue;
+                    }
+                    let k = if round % 3 == 0 { next(3) } else { next(1000) } as f32;
+                    let lo = [k, 0.5 * k + next(7) as f32, -k];
+                    let size = [1.0 + next(5) as f32, 2.0, 0.25 * next(9) as f32];
+                    bins.bounds[a][i] = Box4 {
+                        lo: [lo[0], lo[1], lo[2], 0.0],
+                        hi: [lo[0] + size[0], lo[1] + size[1], lo[2] + size[2], 0.0],
+                    };
+                    bins.counts[i][a] = 1 + next(40) as u32;
+                }
+            }
+            let got = best_split(&bins, nb, &mut scratch.sweep);
+            assert_eq!(
+                got,
+                best_split_reference(&bins, nb),
+                "round {round}, {nb} bins"
+            );
+            found += usize::from(got.is_some());
+        }
+        assert!(found > 1500, "{found} rounds with a split");
     }
 
     #[test]
