@@ -192,6 +192,22 @@ pub use avx512::{F32x16, M32x16};
 #[cfg(target_arch = "x86_64")]
 pub use sse2::{F32x4, M32x4};
 
+/// Asks the CPU to bring the cache line holding `p` into the first-level cache, without
+/// waiting for it (x86-64 `prefetcht0`; nothing elsewhere). A hint only: it never faults,
+/// whatever `p` points at, and changes no result.
+#[inline(always)]
+pub fn prefetch<T>(p: *const T) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use core::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+        // SAFETY: SSE is part of x86-64, and a prefetch reads nothing the program sees
+        // and cannot fault, so any address is allowed.
+        unsafe { _mm_prefetch::<_MM_HINT_T0>(p.cast::<i8>()) };
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = p;
+}
+
 /// An x86-64 instruction set the lane types are compiled for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Isa {

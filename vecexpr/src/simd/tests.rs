@@ -492,3 +492,14 @@ fn the_inherent_array_conversions_round_trip() {
         );
     }
 }
+
+/// A prefetch is a hint: on valid, dangling and null addresses alike it returns and
+/// changes nothing.
+#[test]
+fn prefetch_never_faults_and_changes_nothing() {
+    let data = [1.0f32, 2.0, 3.0, 4.0];
+    super::prefetch(data.as_ptr());
+    super::prefetch(core::ptr::null::<f32>());
+    super::prefetch(usize::MAX as *const u8);
+    assert_eq!(data, [1.0, 2.0, 3.0, 4.0]);
+}
