@@ -357,9 +357,11 @@ struct WatertightLanes<S: SimdF32> {
 /// edges), the determinant and the distance in `(t_min, t_max]`. With `EARLY`, the
 /// distance is skipped where the sign test fails in every lane (no lane is hit then,
 /// and the other values are not read): one triangle against a packet of rays, where
-/// that is most tests, 0.973 to 0.979 of the eye packets' instructions on the triangle
-/// scenes. Four triangles against one ray do without it: there the extra branch cost
-/// more than it saved (1.006 to 1.014 of the single eye rays' instructions).
+/// that is most tests, 0.972 to 0.984 of the eye packets' instructions on the seven
+/// classic scenes. Four triangles against one ray do without it: there the extra branch
+/// cost more than it saved (1.006 to 1.014 of the single eye rays' instructions on the
+/// triangle scenes; `tracer/RESULTS.md`, "The node's last cache line fetched early, and
+/// where the per-ray instructions go").
 #[inline(always)]
 fn watertight_finish<S: SimdF32, const EARLY: bool>(
     [u, v, w]: [S; 3],

@@ -153,7 +153,8 @@ impl Bvh {
                 // boxes are tested instead of after. balls-s6, whose tree does not fit
                 // in the caches: single eye rays 1.012 to 1.036 times as fast in five
                 // alternations; the classic scenes unchanged (`tracer/RESULTS.md`,
-                // "The node's last cache line fetched early").
+                // "The node's last cache line fetched early, and where the per-ray
+                // instructions go").
                 vecexpr::simd::prefetch(node.child.as_ptr());
             }
             let (mut bits, tn) = boxes.node_hits(node, t_max);
