@@ -178,19 +178,10 @@ impl<T: Real> Prims<T> {
     /// Conservative `f32` boxes of every BVH primitive, with their typed references, in
     /// parallel for large scenes (the order is the same either way).
     pub fn build_prims(&self, parallel: bool) -> Vec<BuildPrim> {
-        let n = self.bvh_len();
-        let make = |k: usize| {
+        collect(self.bvh_len(), parallel, |k| {
             let r = self.ref_at(k);
             BuildPrim::new(self.bounds_of(r), r)
-        };
-        let mut out = crate::pages::vec_with_capacity(n);
-        if parallel && n >= PARALLEL_PRIMS {
-            use rayon::prelude::*;
-            (0..n).into_par_iter().map(make).collect_into_vec(&mut out);
-        } else {
-            out.extend((0..n).map(make));
-        }
-        out
+        })
     }
 
     /// Reorders the primitive arrays into the BVH's leaf order and points the BVH's
@@ -259,15 +250,19 @@ impl<T: Real> Prims<T> {
 
 /// `src[order[k]]` for every `k`, in parallel for long arrays when `parallel`.
 fn gather<X: Copy + Send + Sync>(src: &[X], order: &[u32], parallel: bool) -> Vec<X> {
-    let mut out = crate::pages::vec_with_capacity(order.len());
-    if parallel && order.len() >= PARALLEL_PRIMS {
+    collect(order.len(), parallel, |k| src[order[k] as usize])
+}
+
+/// `[f(0), .., f(n - 1)]` in a vector on huge pages ([`crate::pages`]), made over the
+/// rayon pool from [`PARALLEL_PRIMS`] items up when `parallel` (the same items either
+/// way).
+fn collect<X: Send>(n: usize, parallel: bool, f: impl Fn(usize) -> X + Sync + Send) -> Vec<X> {
+    let mut out = crate::pages::vec_with_capacity(n);
+    if parallel && n >= PARALLEL_PRIMS {
         use rayon::prelude::*;
-        order
-            .par_iter()
-            .map(|&i| src[i as usize])
-            .collect_into_vec(&mut out);
+        (0..n).into_par_iter().map(f).collect_into_vec(&mut out);
     } else {
-        out.extend(order.iter().map(|&i| src[i as usize]));
+        out.extend((0..n).map(f));
     }
     out
 }
