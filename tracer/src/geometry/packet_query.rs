@@ -41,7 +41,7 @@
 //! hand-over, which is the single-ray query's own walk (`RayQuery::wide_from`) from the
 //! node handed over.
 
-use super::cone::cone_packet;
+use super::cone::{cone_lanes_clear, cone_packet};
 use super::query::{Query, RayQuery};
 use super::ray_data::{PacketData, PacketShear, RayData, Shear, MAX_LANES};
 use super::sphere::sphere_packet;
@@ -303,7 +303,11 @@ impl Geometry<f32> {
                 self.offer_lanes(r, m, hits, best, t_max)
             }
             CONE => {
-                let hits = cone_packet(&self.prims.cones[i], pd, t_max);
+                let c = &self.prims.cones[i];
+                if cone_lanes_clear(c, pd).bitmask() & m == m {
+                    return t_max;
+                }
+                let hits = cone_packet(c, pd, t_max);
                 self.offer_lanes(r, m, hits, best, t_max)
             }
             TRIANGLE => {
@@ -449,7 +453,11 @@ impl Geometry<f32> {
                 hit.bitmask() & m
             }
             CONE => {
-                let (hit, _) = cone_packet(&self.prims.cones[i], pd, su.t_limit);
+                let c = &self.prims.cones[i];
+                if cone_lanes_clear(c, pd).bitmask() & m == m {
+                    return 0;
+                }
+                let (hit, _) = cone_packet(c, pd, su.t_limit);
                 hit.bitmask() & m
             }
             TRIANGLE => match &pd.shear {
