@@ -514,7 +514,7 @@ mod tests {
             t_max: f32,
         }
         impl Kernel for Lanes<'_> {
-            type Output = Vec<Option<f32>>;
+            type Output = Vec<(Option<f32>, bool)>;
             fn run<S: SimdF32>(self) -> Self::Output {
                 let mut out = Vec::new();
                 for chunk in self.rays.chunks(S::LANES) {
@@ -539,10 +539,11 @@ mod tests {
                     };
                     let (hit, t) = cone_packet(self.cone, &pd, S::splat(self.t_max));
                     let bits = hit.bitmask();
+                    let clear = cone_lanes_clear(self.cone, &pd).bitmask();
                     let mut ts = [0.0f32; MAX_LANES];
                     t.store(&mut ts);
                     for (l, &t) in ts.iter().enumerate().take(chunk.len()) {
-                        out.push((bits >> l & 1 == 1).then_some(t));
+                        out.push(((bits >> l & 1 == 1).then_some(t), clear >> l & 1 == 1));
                     }
                 }
                 out
@@ -591,7 +592,7 @@ mod tests {
                 push(far, (rim - &far).eval(), 0.0);
             }
         }
-        let mut hits = 0;
+        let (mut hits, mut cleared) = (0, 0);
         for isa in Isa::available() {
             for c in &cones {
                 for t_max in [f32::MAX, 3.0] {
@@ -600,7 +601,7 @@ mod tests {
                         rays: &rays,
                         t_max,
                     });
-                    for (r, g) in rays.iter().zip(&got) {
+                    for (r, (g, clear)) in rays.iter().zip(&got) {
                         let want = c.intersect(r, t_max);
                         assert_eq!(
                             g.map(f32::to_bits),
@@ -609,11 +610,16 @@ mod tests {
                             r.origin,
                             r.dir
                         );
+                        // The pre-test, too, gives each lane the single ray's answer.
+                        let single = clears(&c.base, &c.axis, c.widest(), &r.origin, &r.dir, r.dd);
+                        assert_eq!(*clear, single, "{isa} {c:?}");
                         hits += usize::from(want.is_some());
+                        cleared += usize::from(*clear);
                     }
                 }
             }
         }
         assert!(hits > 1000, "{hits} hits");
+        assert!(cleared > 1000, "{cleared} rays cleared");
     }
 }
