@@ -192,6 +192,13 @@ fn compare<T: tracer::Float>(
                     _ => panic!("ray {i} {r:?} ({opts:?}): bvh {a:?} vs brute force {b:?}"),
                 }
                 assert_eq!(bvh.occluded(r), a.is_some(), "ray {i}: bvh occluded");
+                // The queries compiled for the scene's kinds answer as the all-kinds ones.
+                let all = bvh.intersect_kinds::<{ kinds::ALL }>(r);
+                let key = |h: &Option<tracer::Hit<T>>| h.as_ref().map(|h| (h.t.to_bits(), h.prim_id));
+                assert_eq!(key(&all), key(&a), "ray {i}: all kinds");
+                assert_eq!(bvh.occluded_kinds::<{ kinds::ALL }>(r), a.is_some(), "ray {i}");
+                let cast = bvh.cast(r).map(|c| bvh.hit(r, &c));
+                assert_eq!(key(&cast), key(&a), "ray {i}: cast");
             }
         }
     }
