@@ -117,13 +117,13 @@ impl<T: Real> RayData<T> {
     #[inline(always)]
     pub fn new(ray: &Ray<T>) -> Option<Self> {
         // `x * 0` is zero for finite `x` and NaN for an infinite or NaN one, so the sum
-        // of the six products is zero exactly when every coordinate is finite: one
-        // test instead of six. The tests are combined without short-circuits (`&`),
-        // so that a valid ray takes one branch here, not six.
-        let (o, d, zero) = (&ray.origin, &ray.dir, T::ZERO);
-        let finite =
-            (o[0] * zero + o[1] * zero) + (o[2] * zero + d[0] * zero) + (d[1] * zero + d[2] * zero)
-                == zero;
+        // of the three products is zero exactly when every coordinate of the origin is
+        // finite: one test instead of three. The direction needs no such test: an
+        // infinite or NaN coordinate makes `dd` infinite or NaN, which the range test
+        // of `dd` rejects (six instructions a ray fewer). The tests are combined
+        // without short-circuits (`&`), so that a valid ray takes one branch here.
+        let (o, zero) = (&ray.origin, T::ZERO);
+        let finite = (o[0] * zero + o[1] * zero) + o[2] * zero == zero;
         let dd = ray.dir.length_squared();
         // `t_max > t_min` is false when either is NaN.
         let valid = finite & (dd >= T::MIN_POSITIVE) & (dd <= T::MAX) & (ray.t_max > ray.t_min);
@@ -210,8 +210,19 @@ mod tests {
         let o = vec3(0.0f32, 0.0, 0.0);
         let d = vec3(0.0f32, 0.0, 1.0);
         assert!(RayData::new(&Ray::new(o, d)).is_some());
-        assert!(RayData::new(&Ray::new(vec3(f32::NAN, 0.0, 0.0), d)).is_none());
-        assert!(RayData::new(&Ray::new(o, vec3(0.0, f32::INFINITY, 1.0))).is_none());
+        // Every coordinate of origin and direction, infinite or NaN, alone.
+        for bad in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+            for k in 0..3 {
+                let (mut ob, mut db) = (o, vec3(0.3f32, -0.4, 0.5));
+                ob[k] = bad;
+                db[k] = bad;
+                assert!(RayData::new(&Ray::new(ob, d)).is_none(), "origin {ob:?}");
+                assert!(RayData::new(&Ray::new(o, db)).is_none(), "direction {db:?}");
+            }
+        }
+        // A direction whose squared length overflows or underflows.
+        assert!(RayData::new(&Ray::new(o, vec3(3e19, 0.0, 0.0))).is_none());
+        assert!(RayData::new(&Ray::new(o, vec3(1e-20, 0.0, 0.0))).is_none());
         assert!(RayData::new(&Ray::new(o, vec3(0.0, 0.0, 0.0))).is_none());
         assert!(RayData::new(&Ray {
             t_max: f32::NAN,
