@@ -567,8 +567,13 @@ impl Geometry<f32> {
         let n = S::LANES;
         assert!(n <= MAX_LANES && rays.len() >= n && out.len() >= n);
         if !self.packet_kernels() {
+            // Möller-Trumbore, one ray at a time, out of line (inlined here, the
+            // single-ray queries grew the packet kernel and its register pressure).
             for (o, r) in out[..n].iter_mut().zip(&rays[..n]) {
-                *o = r.as_ref().and_then(|r| self.cast(r));
+                *o = r
+                    .as_ref()
+                    .and_then(|r| self.cast_moller_trumbore(r))
+                    .map(Intersection);
             }
             return;
         }
@@ -630,8 +635,9 @@ impl Geometry<f32> {
         let n = S::LANES;
         assert!(n <= MAX_LANES && rays.len() >= n && out.len() >= n);
         if !self.packet_kernels() {
+            // As in `cast_lanes`.
             for (o, r) in out[..n].iter_mut().zip(&rays[..n]) {
-                *o = r.as_ref().is_some_and(|r| self.occluded(r));
+                *o = r.as_ref().is_some_and(|r| self.any_moller_trumbore(r));
             }
             return;
         }
