@@ -369,6 +369,23 @@ mod tests {
         assert!((p[0].hypot(p[1]) - (1.0 - p[2])).abs() < 1e-12, "{p:?}");
     }
 
+    /// A cylinder, a cone with its tip at the apex, a slanted cone, and a thin cylinder
+    /// far from the origin.
+    fn sample_cones() -> [Cone<f32>; 4] {
+        [
+            Cone::new(vec3(0.0f32, 0.0, 0.0), 1.0, vec3(0.0, 0.0, 2.0), 1.0).unwrap(),
+            Cone::new(vec3(0.0f32, 0.0, 0.0), 1.0, vec3(0.0, 0.0, 1.0), 0.0).unwrap(),
+            Cone::new(vec3(1.0f32, -2.0, 0.5), 0.3, vec3(2.0, 1.0, 3.0), 0.7).unwrap(),
+            Cone::new(
+                vec3(1e4f32, 3e3, -2e3),
+                0.05,
+                vec3(1e4, 3e3 + 1.0, -2e3),
+                0.05,
+            )
+            .unwrap(),
+        ]
+    }
+
     /// The pre-test never rejects a ray the exact test hits, and it does reject most
     /// rays that pass wide: over cylinders and cones of every size (thin and long, far
     /// from the origin, a tip at the apex), rays aimed at the surface and a relative
@@ -384,18 +401,14 @@ mod tests {
             seed ^= seed >> 27;
             (seed.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1u64 << 53) as f64
         };
+        let [cylinder, cone, slanted, far] = sample_cones();
+        // Besides the sample cones, a thin cylinder and a tiny cone.
         let cones = [
-            Cone::new(vec3(0.0f32, 0.0, 0.0), 1.0, vec3(0.0, 0.0, 2.0), 1.0).unwrap(),
-            Cone::new(vec3(0.0f32, 0.0, 0.0), 1.0, vec3(0.0, 0.0, 1.0), 0.0).unwrap(),
-            Cone::new(vec3(1.0f32, -2.0, 0.5), 0.3, vec3(2.0, 1.0, 3.0), 0.7).unwrap(),
+            cylinder,
+            cone,
+            slanted,
             Cone::new(vec3(0.3f32, 0.2, 0.1), 0.01, vec3(0.9, 0.35, 0.4), 0.01).unwrap(),
-            Cone::new(
-                vec3(1e4f32, 3e3, -2e3),
-                0.05,
-                vec3(1e4, 3e3 + 1.0, -2e3),
-                0.05,
-            )
-            .unwrap(),
+            far,
             Cone::new(vec3(-5.0f32, 7.0, 2.0), 1e-3, vec3(-4.0, 7.5, 1.0), 2e-3).unwrap(),
         ];
         let (mut hits, mut wide, mut rejected) = (0, 0, 0);
@@ -550,18 +563,7 @@ mod tests {
             }
         }
 
-        let cones = [
-            Cone::new(vec3(0.0f32, 0.0, 0.0), 1.0, vec3(0.0, 0.0, 2.0), 1.0).unwrap(),
-            Cone::new(vec3(0.0f32, 0.0, 0.0), 1.0, vec3(0.0, 0.0, 1.0), 0.0).unwrap(),
-            Cone::new(vec3(1.0f32, -2.0, 0.5), 0.3, vec3(2.0, 1.0, 3.0), 0.7).unwrap(),
-            Cone::new(
-                vec3(1e4f32, 3e3, -2e3),
-                0.05,
-                vec3(1e4, 3e3 + 1.0, -2e3),
-                0.05,
-            )
-            .unwrap(),
-        ];
+        let cones = sample_cones();
         let mut rays = Vec::new();
         let mut push = |o: Vec3<f32>, d: Vec3<f32>, t_min: f32| {
             if let Some(r) = RayData::new(&Ray {

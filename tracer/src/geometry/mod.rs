@@ -334,7 +334,7 @@ pub const NO_HINT: u32 = NO_HIT;
 #[derive(Clone, Debug)]
 pub struct Geometry<T: Real> {
     prims: Prims<T>,
-    /// The primitive kinds present ([`Geometry::kinds`]).
+    /// The primitive kinds present, as a [`kinds`] mask ([`Geometry::kinds`]).
     kinds: u32,
     bvh: Option<Bvh>,
     wide: bool,
@@ -409,18 +409,21 @@ impl<T: Float> Geometry<T> {
             prim_bytes: prims.bytes(),
             build_ms: start.elapsed().as_secs_f64() * 1e3,
         };
-        let mut g = Self {
+        let bit = |n: usize, k: u32| if n > 0 { k } else { 0 };
+        let kinds = bit(prims.spheres.len(), kinds::SPHERES)
+            | bit(prims.triangles.len(), kinds::TRIANGLES)
+            | bit(prims.cones.len(), kinds::CONES)
+            | bit(prims.planes.len(), kinds::PLANES);
+        Self {
             prims,
-            kinds: 0,
+            kinds,
             bvh,
             wide: opts.wide,
             eight,
             triangle_test: opts.triangle,
             bounds: Aabb::from_bounds(&total),
             stats,
-        };
-        g.kinds = g.kinds();
-        g
+        }
     }
 
     /// Counts, BVH size and build time.
@@ -430,12 +433,7 @@ impl<T: Float> Geometry<T> {
 
     /// The primitive kinds present, as a [`kinds`] mask.
     pub fn kinds(&self) -> u32 {
-        let p = &self.prims;
-        let bit = |n: usize, k: u32| if n > 0 { k } else { 0 };
-        bit(p.spheres.len(), kinds::SPHERES)
-            | bit(p.triangles.len(), kinds::TRIANGLES)
-            | bit(p.cones.len(), kinds::CONES)
-            | bit(p.planes.len(), kinds::PLANES)
+        self.kinds
     }
 
     /// Conservative bounds of all bounded primitives (planes excluded); empty if none.
@@ -497,7 +495,7 @@ impl<T: Float> Geometry<T> {
     /// renderer picks its kinds with its effect set instead ([`crate::effects`]). With
     /// one kind the type dispatch per primitive test and the other kinds' tests are
     /// left out: on the triangle scenes (teapot-s12, gears-s4, tetra-s6) single eye
-    /// rays run 0.957 to 0.967 of the instructions and shadow rays 0.956 to 0.959
+    /// rays run 0.957 to 0.966 of the instructions and shadow rays 0.956 to 0.959
     /// (`tracer/RESULTS.md`, "The public queries compiled for the scene's kinds"). The
     /// callers are inlined, or the hit record is returned through memory (+45
     /// instructions a ray).
