@@ -5,7 +5,7 @@
 //! ```sh
 //! cargo run --profile perf -p tracer --example packet_walk -- [--runs N] [--threads N] \
 //!     [--isa sse2|avx2|avx512] [--size WxH] [--only single|binary|wide] \
-//!     [--traversal-cost C] [--max-leaf N] [--tile N] [--four-wide] SCENE...
+//!     [--traversal-cost C] [--max-leaf N] [--tile N] [--four-wide] [--no-avx512] SCENE...
 //! ```
 //!
 //! Prints one Markdown row per scene: median Mrays per second of each way over `--runs`
@@ -13,7 +13,9 @@
 //! checked against the single-ray hit of its pixel once, before timing. With
 //! `--only single|binary|wide` only that way is run, once per round and unchecked (for
 //! an instruction count under callgrind). Single rays are cast in row order, or with
-//! `--tile N` tile by tile (N x N pixels, tiles in row order).
+//! `--tile N` tile by tile (N x N pixels, tiles in row order). `--four-wide` keeps single
+//! rays on the four-wide tree, `--no-avx512` on the AVX2 compilation of the eight-wide
+//! walk where the CPU has AVX-512 ([`AccelOptions::avx512`]).
 
 use rayon::prelude::*;
 use std::process::ExitCode;
@@ -86,6 +88,7 @@ fn parse_args() -> Result<Options, String> {
                 o.accel.traversal_cost = v.parse().map_err(|e| format!("--traversal-cost: {e}"))?;
             }
             "--four-wide" => o.accel.eight_wide = false,
+            "--no-avx512" => o.accel.avx512 = false,
             "--max-leaf" => {
                 let v = value("--max-leaf")?;
                 o.accel.max_leaf_size = v.parse().map_err(|e| format!("--max-leaf: {e}"))?;

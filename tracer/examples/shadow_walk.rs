@@ -4,12 +4,13 @@
 //!
 //! ```sh
 //! cargo run --profile perf -p tracer --example shadow_walk -- [--runs N] [--threads N] \
-//!     [--size WxH] [--four-wide] SCENE...
+//!     [--size WxH] [--four-wide] [--no-avx512] SCENE...
 //! ```
 //!
 //! Prints one Markdown row per scene: the shadow rays, the share blocked and the median
 //! Mrays per second over `--runs` rounds. For an instruction count, run it under
 //! callgrind with `--toggle-collect='*cast_shadow*'` and divide by rays x runs.
+//! `--four-wide` and `--no-avx512` as for the `packet_walk` example.
 
 use rayon::prelude::*;
 use std::process::ExitCode;
@@ -24,6 +25,7 @@ struct Options {
     threads: usize,
     size: (u32, u32),
     four_wide: bool,
+    no_avx512: bool,
     scenes: Vec<String>,
 }
 
@@ -33,6 +35,7 @@ fn parse_args() -> Result<Options, String> {
         threads: 1,
         size: (512, 512),
         four_wide: false,
+        no_avx512: false,
         scenes: Vec::new(),
     };
     let mut args = std::env::args().skip(1);
@@ -60,6 +63,7 @@ fn parse_args() -> Result<Options, String> {
                 );
             }
             "--four-wide" => o.four_wide = true,
+            "--no-avx512" => o.no_avx512 = true,
             s if s.starts_with("--") => return Err(format!("unknown option {s}")),
             s => o.scenes.push(s.to_string()),
         }
@@ -142,6 +146,7 @@ fn main() -> ExitCode {
         };
         let accel = tracer::geometry::AccelOptions {
             eight_wide: !o.four_wide,
+            avx512: !o.no_avx512,
             ..Default::default()
         };
         let scene: Scene<f32> = Scene::from_desc(&desc, &accel);

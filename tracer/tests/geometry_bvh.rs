@@ -1,7 +1,8 @@
 //! The BVH against brute force on random scenes, `occluded` against `intersect`, and the
 //! determinism of the parallel build. (Single `f32` rays walk the eight-wide tree where
 //! the CPU has AVX2, the four-wide one elsewhere and with `eight_wide: false`: both are
-//! checked.)
+//! checked, and so are the eight-wide walk's AVX-512VL and AVX2 compilations where the
+//! CPU has AVX-512, with `avx512: false` for the second.)
 
 use tracer::geometry::{kinds, AccelOptions, Geometry, TriangleTest, NO_HINT};
 use tracer::scene::desc::{Shape, ShapeDesc, P3};
@@ -228,10 +229,14 @@ macro_rules! bvh_tests {
                     eight_wide: false,
                     ..opts(TriangleTest::Watertight, 8)
                 };
+                let avx2 = AccelOptions {
+                    avx512: false,
+                    ..opts(TriangleTest::Watertight, 8)
+                };
                 let hits = compare(
                     &shapes,
                     &rays,
-                    &[opts(TriangleTest::Watertight, 8), four_wide],
+                    &[opts(TriangleTest::Watertight, 8), four_wide, avx2],
                 );
                 assert!(hits > 2_000 && hits < 7_500, "{hits} hits");
             }
@@ -248,6 +253,10 @@ macro_rules! bvh_tests {
                         opts(TriangleTest::Watertight, 4),
                         AccelOptions {
                             eight_wide: false,
+                            ..opts(TriangleTest::Watertight, 4)
+                        },
+                        AccelOptions {
+                            avx512: false,
                             ..opts(TriangleTest::Watertight, 4)
                         },
                         opts(TriangleTest::MollerTrumbore, 4),
@@ -273,10 +282,11 @@ macro_rules! bvh_tests {
                     0,
                 ));
                 let rays = random_rays::<T>(&mut rng, 4_000);
-                for wide in [true, false] {
+                for (wide, avx512) in [(true, true), (true, false), (false, true)] {
                     for use_bvh in [true, false] {
                         let o = AccelOptions {
                             wide,
+                            avx512,
                             use_bvh,
                             ..opts(TriangleTest::Watertight, 4)
                         };
