@@ -221,6 +221,21 @@ impl Default for AccelOptions {
     }
 }
 
+/// The walk of single rays, chosen when a [`Geometry`] is built.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum EightWalk {
+    /// The four-wide tree: no eight-wide tree, or a CPU without AVX2 and FMA.
+    Off,
+    /// The eight-wide tree, with AVX box tests: an `f32` geometry with a BVH,
+    /// [`AccelOptions::wide`] and [`AccelOptions::eight_wide`], on a CPU with AVX2 and
+    /// FMA.
+    Avx2,
+    /// As `Avx2`, in the walk's AVX-512VL compilation, where the CPU has AVX-512F and
+    /// AVX-512VL too and [`AccelOptions::avx512`] is set: the same operations, with 32
+    /// vector registers instead of 16 (see [`Geometry::closest_best_avx512`]).
+    Avx512,
+}
+
 /// Counts and costs of a built [`Geometry`].
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct GeometryStats {
@@ -343,14 +358,8 @@ pub struct Geometry<T: Real> {
     kinds: u32,
     bvh: Option<Bvh>,
     wide: bool,
-    /// Single rays walk the eight-wide tree, with AVX box tests: an `f32` geometry
-    /// with a BVH, [`AccelOptions::wide`] and [`AccelOptions::eight_wide`], on a CPU
-    /// with AVX2 and FMA.
-    eight: bool,
-    /// The eight-wide walks are compiled for AVX-512VL too, where the CPU has it: the
-    /// same operations, with 32 vector registers instead of 16 (see
-    /// [`Geometry::closest_best_avx512`]).
-    eight512: bool,
+    /// Which walk single rays take ([`EightWalk`]).
+    eight: EightWalk,
     triangle_test: TriangleTest,
     bounds: Aabb<T>,
     stats: GeometryStats,
@@ -387,12 +396,15 @@ impl<T: Float> Geometry<T> {
         let avx2 = false;
         let eight = opts.use_bvh && opts.wide && opts.eight_wide && T::AS_F32.is_some() && avx2;
         #[cfg(target_arch = "x86_64")]
-        let eight512 = eight
-            && opts.avx512
-            && std::arch::is_x86_feature_detected!("avx512f")
+        let avx512 = std::arch::is_x86_feature_detected!("avx512f")
             && std::arch::is_x86_feature_detected!("avx512vl");
         #[cfg(not(target_arch = "x86_64"))]
-        let eight512 = false;
+        let avx512 = false;
+        let walk = match (eight, opts.avx512 && avx512) {
+            (false, _) => EightWalk::Off,
+            (true, false) => EightWalk::Avx2,
+            (true, true) => EightWalk::Avx512,
+        };
         let bvh = opts.use_bvh.then(|| {
             let cfg = BuildConfig {
                 max_leaf_size: opts.max_leaf_size,
@@ -435,8 +447,7 @@ impl<T: Float> Geometry<T> {
             kinds,
             bvh,
             wide: opts.wide,
-            eight,
-            eight512,
+            eight: walk,
             triangle_test: opts.triangle,
             bounds: Aabb::from_bounds(&total),
             stats,
@@ -628,14 +639,18 @@ impl<T: Float> Geometry<T> {
         hint: &mut u32,
     ) -> bool {
         #[cfg(target_arch = "x86_64")]
-        if self.eight {
-            if self.eight512 {
-                // SAFETY: `eight512` is set only with `eight` and where the CPU has
-                // AVX-512F and AVX-512VL too.
+        match self.eight {
+            EightWalk::Avx512 => {
+                // SAFETY: `Avx512` is chosen only where the CPU has AVX2, FMA, AVX-512F
+                // and AVX-512VL, for a geometry with the eight-wide tree.
                 return unsafe { self.any_hint_avx512::<WATERTIGHT, KINDS>(ray, hint) };
             }
-            // SAFETY: `eight` is set only where the CPU has AVX2 and FMA.
-            return unsafe { self.any_hint_avx2::<WATERTIGHT, KINDS>(ray, hint) };
+            EightWalk::Avx2 => {
+                // SAFETY: `Avx2` is chosen only where the CPU has AVX2 and FMA, for a
+                // geometry with the eight-wide tree.
+                return unsafe { self.any_hint_avx2::<WATERTIGHT, KINDS>(ray, hint) };
+            }
+            EightWalk::Off => {}
         }
         self.any_hint_four::<WATERTIGHT, KINDS>(ray, hint)
     }
@@ -918,14 +933,18 @@ impl<T: Float> Geometry<T> {
         ray: &Ray<T>,
     ) -> Option<Best<T>> {
         #[cfg(target_arch = "x86_64")]
-        if self.eight {
-            if self.eight512 {
-                // SAFETY: `eight512` is set only with `eight` and where the CPU has
-                // AVX-512F and AVX-512VL too.
+        match self.eight {
+            EightWalk::Avx512 => {
+                // SAFETY: `Avx512` is chosen only where the CPU has AVX2, FMA, AVX-512F
+                // and AVX-512VL, for a geometry with the eight-wide tree.
                 return unsafe { self.closest_best_avx512::<WATERTIGHT, KINDS>(ray) };
             }
-            // SAFETY: `eight` is set only where the CPU has AVX2 and FMA.
-            return unsafe { self.closest_best_avx2::<WATERTIGHT, KINDS>(ray) };
+            EightWalk::Avx2 => {
+                // SAFETY: `Avx2` is chosen only where the CPU has AVX2 and FMA, for a
+                // geometry with the eight-wide tree.
+                return unsafe { self.closest_best_avx2::<WATERTIGHT, KINDS>(ray) };
+            }
+            EightWalk::Off => {}
         }
         self.closest_best_four::<WATERTIGHT, KINDS>(ray)
     }
@@ -969,7 +988,7 @@ impl<T: Float> Geometry<T> {
     ///
     /// # Safety
     /// As for [`Geometry::closest_best_avx2`], and the CPU has AVX-512F and AVX-512VL
-    /// ([`Geometry::eight512`]).
+    /// ([`EightWalk::Avx512`]).
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma,avx512f,avx512vl")]
     #[inline(never)]
@@ -1001,14 +1020,18 @@ impl<T: Float> Geometry<T> {
     #[inline(always)]
     fn any<const WATERTIGHT: bool, const KINDS: u32>(&self, ray: &Ray<T>) -> bool {
         #[cfg(target_arch = "x86_64")]
-        if self.eight {
-            if self.eight512 {
-                // SAFETY: `eight512` is set only with `eight` and where the CPU has
-                // AVX-512F and AVX-512VL too.
+        match self.eight {
+            EightWalk::Avx512 => {
+                // SAFETY: `Avx512` is chosen only where the CPU has AVX2, FMA, AVX-512F
+                // and AVX-512VL, for a geometry with the eight-wide tree.
                 return unsafe { self.any_avx512::<WATERTIGHT, KINDS>(ray) };
             }
-            // SAFETY: `eight` is set only where the CPU has AVX2 and FMA.
-            return unsafe { self.any_avx2::<WATERTIGHT, KINDS>(ray) };
+            EightWalk::Avx2 => {
+                // SAFETY: `Avx2` is chosen only where the CPU has AVX2 and FMA, for a
+                // geometry with the eight-wide tree.
+                return unsafe { self.any_avx2::<WATERTIGHT, KINDS>(ray) };
+            }
+            EightWalk::Off => {}
         }
         self.any_four::<WATERTIGHT, KINDS>(ray)
     }
