@@ -6,6 +6,7 @@
 # Usage: tracer/scripts/packet-ab.sh OLD_BIN NEW_BIN ROUNDS SCENE...
 #   SCENE is a name in ../shared/scenes/spd without .nff, e.g. teapot-s12
 #   ONLY=single measures single eye rays over the four-wide tree instead of packets.
+#   SIZE=WxH sets the image size (512x512 by default).
 #   e.g. git worktree add /tmp/old COMMIT && cargo build --profile perf -p tracer
 #   --example packet_walk --manifest-path /tmp/old/Cargo.toml --target-dir /tmp/old-t &&
 #   cargo build --profile perf -p tracer --example packet_walk &&
@@ -17,12 +18,13 @@ old=$1 new=$2 rounds=$3
 shift 3
 S=$root/../shared/scenes/spd
 only=${ONLY:-wide}
+size=${SIZE:-512x512}
 case $only in
   wide) col=5 ;;
   single) col=3 ;;
   *) echo "ONLY=$only: expected wide or single" >&2; exit 2 ;;
 esac
-rate() { "$1" --runs 1 --threads 1 --only "$only" --size 512x512 "$S/$2.nff" | awk -F'|' -v c=$col '/nff/ {print $c}'; }
+rate() { "$1" --runs 1 --threads 1 --only "$only" --size "$size" "$S/$2.nff" | awk -F'|' -v c=$col '/nff/ {print $c}'; }
 echo "| scene | old Mrays/s | new Mrays/s | new / old |"
 echo "|---|---:|---:|---:|"
 for s in "$@"; do

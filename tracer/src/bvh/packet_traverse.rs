@@ -21,7 +21,8 @@
 //!   the eight-wide tree where the geometry has it, eight boxes in one AVX register:
 //!   0.87 to 0.99 of the instructions per ray of the four-wide beam on the classic
 //!   scenes (AVX2 packets of eight; `tracer/RESULTS.md`, "Geometry loads at the
-//!   leaves, and the beam on the eight-wide tree").
+//!   leaves, and the beam on the eight-wide tree"). A beam whose rays are far apart
+//!   compared with the leaves it reaches gives up, and its rays walk one by one.
 //! - [`Bvh::traverse_packet`] walks the binary tree (`--binary-bvh`): children are
 //!   visited nearest first by the entry distance of the first ray that hits both; the
 //!   other child is pushed with its mask and, on pop, its box is tested again with the
@@ -250,7 +251,30 @@ pub trait PacketVisitor<S: SimdF32> {
     /// Traces the rays of `lanes` alone through the subtree of wide node `node` of
     /// `bvh` ([`Bvh::traverse4_from`]): few rays of the packet are left.
     fn handover(&mut self, bvh: &Bvh, node: u32, lanes: u32, t_max: S) -> Option<S>;
+    /// Traces the rays of `lanes` alone through the whole tree, each with the
+    /// geometry's fastest single-ray walk, as if they had never been in the packet
+    /// (a beam of them gave up, [`Bvh::traverse4_packet`]): the leaves already tested
+    /// are tested again, which changes no result.
+    fn scatter(&mut self, lanes: u32) -> Option<S>;
 }
+
+/// A beam walk gives up ([`Bvh::traverse4_packet`]) once the leaves it reached that
+/// none of its rays reach (each ray's own box test of the leaf fails) outnumber
+/// `BEAM_EMPTY_MIN` plus `BEAM_EMPTY_PER_LEAF` times the leaves some ray reaches. Eye
+/// packets of 4x4 pixels on balls-s6 at 64x64 (a pixel about 0.7 degrees) met 712
+/// such leaves a packet and 9 leaves with a ray; on the seven classic scenes at 512x512
+/// at most about one in four. The values were chosen by the instructions of AVX2 eye
+/// packets (callgrind, `packet_walk --only wide`, balls-s4, gears-s4, teapot-s12,
+/// tetra-s6 and balls-s6 at 64x64 to 512x512): lower ones gave up on coherent packets
+/// too and cost up to 8 % on balls-s4 at 64x64, higher ones left balls-s6 at 128x128
+/// walking as beams (`tracer/RESULTS.md`, "Beams that give up").
+const BEAM_EMPTY_MIN: u32 = 4;
+/// See [`BEAM_EMPTY_MIN`].
+const BEAM_EMPTY_PER_LEAF: u32 = 4;
+/// Beams that gave up, for the tests that must reach that path.
+#[cfg(test)]
+pub(crate) static BEAMS_GIVEN_UP: core::sync::atomic::AtomicUsize =
+    core::sync::atomic::AtomicUsize::new(0);
 
 impl<S: SimdF32> PacketRay<S> {
     /// [`PacketRay::hit_box`] for slot `i` of a wide node, for rays whose direction
@@ -299,7 +323,10 @@ impl Bvh {
     ///
     /// With `frustum`, an octant's rays that share their origin walk as one beam
     /// instead (`Bvh::frustum_walk`, on x86-64; over the eight-wide tree, where there
-    /// is one, for packets of eight or more lanes), without hand-over.
+    /// is one, for packets of eight or more lanes), without hand-over. A beam gives up
+    /// once the leaves it reaches that none of its rays reach outnumber four plus four
+    /// times the others: rays that far apart, compared with the leaves, are not
+    /// coherent, and [`PacketVisitor::scatter`] traces them one by one.
     ///
     /// Every ray takes part in each leaf its own traversal would reach with its current
     /// closest distance or a larger one, so what the geometry finds for each lane is
@@ -359,6 +386,12 @@ impl Bvh {
                         self.frustum_walk::<S, _, WIDTH, { STACK4_SIZE + WIDTH }>(
                             nodes, &beam, ray, neg, lanes, t_max, visit,
                         )
+                    };
+                    let walked = match walked {
+                        Ok(w) => w,
+                        // The beam met more leaves than its rays reach: they are not
+                        // coherent at the scale of the tree's leaves, and walk alone.
+                        Err(_) => visit.scatter(lanes),
                     };
                     match walked {
                         Some(t) => t_max = t,
@@ -554,8 +587,10 @@ impl Bvh {
     /// ([`PacketRay::hit_slot`], the single-ray test), so a ray takes part in a leaf
     /// exactly when its own test with its current closest distance accepts the box:
     /// what [`Bvh::traverse4_packet`] guarantees, and so each lane's result is the
-    /// single ray's. `STACK` is the bound of the width's stack plus `W`. `None` when
-    /// `visit` ends the walk.
+    /// single ray's. `STACK` is the bound of the width's stack plus `W`. `Ok(None)`
+    /// when `visit` ends the walk, `Err(())` when the beam gives up
+    /// ([`BEAM_EMPTY_MIN`]; the hits found so far stay valid, the rays' walks are not
+    /// finished).
     #[allow(clippy::too_many_arguments)] // the walk's state, all of it used per node
     #[inline(always)]
     fn frustum_walk<S: SimdF32, V: SimdF32, const W: usize, const STACK: usize>(
@@ -567,9 +602,12 @@ impl Bvh {
         lanes: u32,
         mut t_max: S,
         visit: &mut impl PacketVisitor<S>,
-    ) -> Option<S> {
+    ) -> Result<Option<S>, ()> {
         let slack = ray.slack.lane(0);
         let in_play = S::Mask::from_bitmask(lanes);
+        // Leaves the beam reached that none of its rays' own box tests accept, and
+        // leaves some ray reaches.
+        let (mut empty, mut reached) = (0u32, 0u32);
         // The pending slots: (node, slot) and the beam's entry distance. A node pushes
         // all its hit slots before one is popped, one more than the other walk's
         // stack allows for; left uninitialised, only the entries below `sp` are read.
@@ -599,7 +637,7 @@ impl Bvh {
             // Pop until an interior node to descend into.
             loop {
                 if sp == 0 {
-                    return Some(t_max);
+                    return Ok(Some(t_max));
                 }
                 sp -= 1;
                 // SAFETY: every entry below `sp` was written by a push above, and the
@@ -616,8 +654,19 @@ impl Bvh {
                 }
                 let (hit, _) = ray.hit_slot(neg, pn, i as usize, t_max);
                 let m = hit.bitmask() & lanes;
-                if m != 0 {
-                    t_max = visit.leaf(self.leaf(child, count), m, t_max)?;
+                if m == 0 {
+                    empty += 1;
+                    if empty > BEAM_EMPTY_MIN + BEAM_EMPTY_PER_LEAF * reached {
+                        #[cfg(test)]
+                        BEAMS_GIVEN_UP.fetch_add(1, core::sync::atomic::Ordering::Relaxed);
+                        return Err(());
+                    }
+                } else {
+                    reached += 1;
+                    match visit.leaf(self.leaf(child, count), m, t_max) {
+                        Some(t) => t_max = t,
+                        None => return Ok(None),
+                    }
                     limit = largest(t_max, in_play) * slack;
                 }
             }

@@ -866,6 +866,22 @@ impl<S: SimdF32> PacketVisitor<S> for ClosestPacket<'_, S> {
         });
         Some(best_t::<S>(self.best))
     }
+
+    #[inline(always)]
+    fn scatter(&mut self, lanes: u32) -> Option<S> {
+        let (g, su) = (self.geometry, self.su);
+        each_lane(lanes, |l| {
+            // The single ray's closest hit over every primitive: what its lane must end
+            // with. No hit means none so far either (the tests are the same, bit for bit).
+            if let Some(b) = su.rays[l]
+                .as_ref()
+                .and_then(|r| g.closest_best::<true, { kinds::ALL }>(r))
+            {
+                self.best[l] = b;
+            }
+        });
+        Some(best_t::<S>(self.best))
+    }
 }
 
 /// Whether each ray of a packet is blocked: a lane leaves the walk at its first hit, and
@@ -956,6 +972,20 @@ impl<S: SimdF32> PacketVisitor<S> for AnyPacket<'_, S> {
         });
         self.done = done;
         self.update(t_max)
+    }
+
+    #[inline(always)]
+    fn scatter(&mut self, lanes: u32) -> Option<S> {
+        let (g, su) = (self.geometry, self.su);
+        let mut done = self.done;
+        each_lane(lanes & !done, |l| {
+            let blocked = su.rays[l]
+                .as_ref()
+                .is_some_and(|r| g.any::<true, { kinds::ALL }>(r));
+            done |= u32::from(blocked) << l;
+        });
+        self.done = done;
+        self.update(su.t_limit)
     }
 }
 
@@ -1101,6 +1131,86 @@ mod tests {
         assert!(
             blocked_rays.iter().all(|&b| b > 100),
             "too few blocked shadow rays: {blocked_rays:?}"
+        );
+    }
+
+    /// Eye packets whose beams give up (a lattice of small spheres seen through a
+    /// coarse camera, so most leaves a beam reaches lie between its rays): each lane
+    /// still ends with the single ray's closest hit, and an any-hit query of the same
+    /// rays (bounded, so some are blocked and some not) with the single ray's answer.
+    #[test]
+    fn beams_that_give_up_give_the_single_ray_answers() {
+        use core::sync::atomic::Ordering;
+        let mut nff = String::from(
+            "v\nfrom 40 31 36\nat 9 9 6\nup 0 0 1\nangle 70\nhither 0.01\n\
+             resolution 12 12\nl 50 40 60\nf 1 0.5 0.2 1 0 0 0 0\n\
+             p 4\n-100 -100 -1\n100 -100 -1\n100 100 -1\n-100 100 -1\n",
+        );
+        for i in 0..20 {
+            for j in 0..20 {
+                for k in 0..14 {
+                    nff += &format!("s {i} {j} {k} 0.06\n");
+                }
+            }
+        }
+        let desc = crate::scene::nff::parse_nff(nff, "lattice.nff").unwrap();
+        let g = &Geometry::<f32>::build(&desc.shapes, &AccelOptions::default());
+        let (w, h) = (12usize, 12usize);
+        let cam = crate::camera::Camera::<f32>::new(&desc.camera, w as u32, h as u32);
+        let before = crate::bvh::packet_traverse::BEAMS_GIVEN_UP.load(Ordering::Relaxed);
+        let (mut hits_seen, mut blocked_seen) = (0, 0);
+        for isa in Isa::available() {
+            let n = isa.lanes();
+            // Square tiles of packets where the width allows (4x4 for sixteen lanes),
+            // runs of a row otherwise: the tiles' rays share their origin.
+            let side = if n == 16 { 4 } else { 1 };
+            for ty in (0..h).step_by(side) {
+                for tx in (0..w).step_by(n / side) {
+                    let mut eye = [None; MAX_LANES];
+                    let mut bounded = [None; MAX_LANES];
+                    for (l, (r, b)) in eye.iter_mut().zip(&mut bounded).enumerate().take(n) {
+                        let (x, y) = (tx + l % (n / side), ty + l / (n / side));
+                        if x < w && y < h {
+                            let ray = Ray::new(
+                                cam.position,
+                                cam.direction(x as f32 + 0.5, y as f32 + 0.5),
+                            );
+                            *r = Some(ray);
+                            *b = Some(Ray { t_max: 42.0, ..ray });
+                        }
+                    }
+                    let (hits, _) = isa.dispatch(Queries {
+                        geometry: g,
+                        rays: &eye,
+                        switch: super::SWITCH,
+                        frustum: true,
+                    });
+                    let (_, blocked) = isa.dispatch(Queries {
+                        geometry: g,
+                        rays: &bounded,
+                        switch: super::SWITCH,
+                        frustum: true,
+                    });
+                    for l in 0..n {
+                        let single = eye[l].as_ref().and_then(|r| g.intersect(r));
+                        assert_eq!(
+                            hits[l].map(|h| (h.t.to_bits(), h.prim_id)),
+                            single.map(|h| (h.t.to_bits(), h.prim_id)),
+                            "{isa} lane {l} of the packet at ({tx}, {ty})"
+                        );
+                        let single = bounded[l].as_ref().is_some_and(|r| g.occluded(r));
+                        assert_eq!(blocked[l], single, "{isa} lane {l} at ({tx}, {ty})");
+                        hits_seen += usize::from(hits[l].is_some());
+                        blocked_seen += usize::from(single);
+                    }
+                }
+            }
+        }
+        let given_up = crate::bvh::packet_traverse::BEAMS_GIVEN_UP.load(Ordering::Relaxed) - before;
+        assert!(given_up > 10, "only {given_up} beams gave up");
+        assert!(
+            hits_seen > 100 && blocked_seen > 10 && blocked_seen < hits_seen,
+            "{hits_seen} hits, {blocked_seen} blocked"
         );
     }
 }
