@@ -58,11 +58,62 @@ use vecexpr::simd::{Isa, Kernel, SimdF32, SimdMask};
 use vecexpr::Real;
 use vecexpr::{vec3, Expr, Mask};
 
-/// The closest distances so far as lanes.
-#[inline(always)]
-fn best_t<S: SimdF32>(best: &[Best<f32>; MAX_LANES]) -> S {
-    let t: [f32; MAX_LANES] = core::array::from_fn(|i| best[i].t);
-    S::load(&t)
+/// The closest candidates of a packet's lanes so far, in registers: what [`Best`] holds
+/// for each lane, the reference's bits in a float lane (moved only by selects, loads
+/// and stores, which keep every bit). The packet kernels' hits update it without
+/// leaving the registers; the single-ray paths work on the records
+/// ([`LaneBest::store`], then [`LaneBest::load`]).
+#[derive(Clone, Copy)]
+struct LaneBest<S: SimdF32> {
+    /// The closest distances so far: the walk's `t_max`.
+    t: S,
+    b1: S,
+    b2: S,
+    /// The references' bits ([`NO_HIT`] where there is none).
+    r: S,
+    /// Lanes with a candidate (a reference other than [`NO_HIT`]).
+    found: u32,
+}
+
+impl<S: SimdF32> LaneBest<S> {
+    /// The lanes of `best`.
+    #[inline(always)]
+    fn load(best: &[Best<f32>; MAX_LANES]) -> Self {
+        let mut v = [[0.0f32; MAX_LANES]; 4];
+        let mut found = 0u32;
+        for (l, b) in best[..S::LANES].iter().enumerate() {
+            v[0][l] = b.t;
+            v[1][l] = b.b1;
+            v[2][l] = b.b2;
+            v[3][l] = f32::from_bits(b.r);
+            found |= u32::from(b.r != NO_HIT) << l;
+        }
+        Self {
+            t: S::load(&v[0]),
+            b1: S::load(&v[1]),
+            b2: S::load(&v[2]),
+            r: S::load(&v[3]),
+            found,
+        }
+    }
+
+    /// Writes the lanes into `best`.
+    #[inline(always)]
+    fn store(&self, best: &mut [Best<f32>; MAX_LANES]) {
+        let mut v = [[0.0f32; MAX_LANES]; 4];
+        self.t.store(&mut v[0]);
+        self.b1.store(&mut v[1]);
+        self.b2.store(&mut v[2]);
+        self.r.store(&mut v[3]);
+        for (l, b) in best[..S::LANES].iter_mut().enumerate() {
+            *b = Best {
+                r: v[3][l].to_bits(),
+                t: v[0][l],
+                b1: v[1][l],
+                b2: v[2][l],
+            };
+        }
+    }
 }
 
 /// The lanes set in `bits`, lowest first.
@@ -133,8 +184,6 @@ struct Setup<'a, S: SimdF32> {
     pd: PacketData<S>,
     /// Each ray's inclusive upper bound [`RayData::t_limit`].
     t_limit: S,
-    /// The same, per lane.
-    t_limits: [f32; MAX_LANES],
 }
 
 impl<'a, S: SimdF32> Setup<'a, S> {
@@ -258,7 +307,6 @@ impl<'a, S: SimdF32> Setup<'a, S> {
             ray,
             pd,
             t_limit: S::load(&t_limits),
-            t_limits,
         })
     }
 
@@ -282,93 +330,111 @@ impl Geometry<f32> {
         self.triangle_test == TriangleTest::Watertight
     }
 
-    /// The closest-hit test of primitive `r` against the lanes `m` of the packet:
-    /// offers each lane's hit to its record in `best` and returns the lanes' new
-    /// `t_max`. A kernel hit lies in `(t_min, best.t]`: it either becomes the best or
-    /// ties with it, so the lane's new closest distance is the hit's.
+    /// The closest-hit test of primitive `r` against the lanes `m` of the packet: each
+    /// lane's hit is offered to its candidate in `lb` (`lb.t` is the lanes' `t_max`),
+    /// through the records `best` where a single-ray test decides.
     #[inline(always)]
     fn packet_closest<S: SimdF32>(
         &self,
         r: u32,
         m: u32,
         su: &Setup<'_, S>,
+        lb: &mut LaneBest<S>,
         best: &mut [Best<f32>; MAX_LANES],
-        t_max: S,
-    ) -> S {
+    ) {
         let i = (r & INDEX_MASK) as usize;
         let pd = &su.pd;
+        let zero = S::zero();
         match r >> TAG_SHIFT {
             SPHERE => {
-                let hits = sphere_packet(&self.prims.spheres[i], pd, t_max);
-                self.offer_lanes(r, m, hits, best, t_max)
+                let (hit, t) = sphere_packet(&self.prims.spheres[i], pd, lb.t);
+                self.offer_lanes(lb, r, hit.bitmask() & m, (t, zero, zero));
             }
             CONE => {
                 let c = &self.prims.cones[i];
                 if cone_lanes_clear(c, pd).bitmask() & m == m {
-                    return t_max;
+                    return;
                 }
-                let hits = cone_packet(c, pd, t_max);
-                self.offer_lanes(r, m, hits, best, t_max)
+                let (hit, t) = cone_packet(c, pd, lb.t);
+                self.offer_lanes(lb, r, hit.bitmask() & m, (t, zero, zero));
             }
             TRIANGLE => {
                 let Some(sh) = &pd.shear else {
-                    return if self.single_closest(r, m, su, best) {
-                        best_t::<S>(best)
-                    } else {
-                        t_max
-                    };
+                    self.single_lanes(r, m, su, lb, best);
+                    return;
                 };
-                let h = triangle_packet(&self.prims.triangles[i], pd, sh, t_max);
-                let bits = h.hit.bitmask() & m;
-                let mut t_max = t_max;
-                if bits != 0 {
-                    let mut tb = [[0.0f32; MAX_LANES]; 3];
-                    h.t.store(&mut tb[0]);
-                    h.b1.store(&mut tb[1]);
-                    h.b2.store(&mut tb[2]);
-                    each_lane(bits, |l| {
-                        let hit = (tb[0][l], tb[1][l], tb[2][l]);
-                        self.offer(&mut best[l], r, hit);
-                    });
-                    t_max = S::select(S::Mask::from_bitmask(bits), h.t, t_max);
-                }
+                let h = triangle_packet(&self.prims.triangles[i], pd, sh, lb.t);
+                self.offer_lanes(lb, r, h.hit.bitmask() & m, (h.t, h.b1, h.b2));
                 let exact = h.exact.bitmask() & m;
-                if exact != 0 && self.single_closest(r, exact, su, best) {
-                    t_max = best_t::<S>(best);
-                }
-                t_max
-            }
-            _ => {
-                if self.single_closest(r, m, su, best) {
-                    best_t::<S>(best)
-                } else {
-                    t_max
+                if exact != 0 {
+                    self.single_lanes(r, exact, su, lb, best);
                 }
             }
+            _ => self.single_lanes(r, m, su, lb, best),
         }
     }
 
-    /// Offers the hits `(hit, t)` of primitive `r` (a sphere or a cone: no barycentrics)
-    /// in the lanes `m` to their records; the lanes' new `t_max`.
+    /// Offers the hits `(t, b1, b2)` of primitive `r` in the lanes `bits` to their
+    /// candidates, as [`Geometry::offer`] does for one ray: a kernel hit lies within
+    /// the lane's closest distance, so it wins where the lane has no candidate or the
+    /// hit is nearer, and a tie goes to the smaller key.
     #[inline(always)]
     fn offer_lanes<S: SimdF32>(
         &self,
+        lb: &mut LaneBest<S>,
         r: u32,
-        m: u32,
-        (hit, t): (S::Mask, S),
-        best: &mut [Best<f32>; MAX_LANES],
-        t_max: S,
-    ) -> S {
-        let bits = hit.bitmask() & m;
+        bits: u32,
+        (t, b1, b2): (S, S, S),
+    ) {
         if bits == 0 {
-            return t_max;
+            return;
         }
-        let mut ts = [0.0f32; MAX_LANES];
-        t.store(&mut ts);
-        each_lane(bits, |l| {
-            self.offer(&mut best[l], r, (ts[l], 0.0, 0.0));
+        let mut win = bits & (t.lt(lb.t).bitmask() | !lb.found);
+        let ties = bits & !win;
+        if ties != 0 {
+            win |= self.tie_wins(r, ties, lb.r);
+        }
+        if win != 0 {
+            let m = S::Mask::from_bitmask(win);
+            lb.t = S::select(m, t, lb.t);
+            lb.b1 = S::select(m, b1, lb.b1);
+            lb.b2 = S::select(m, b2, lb.b2);
+            lb.r = S::select(m, S::splat(f32::from_bits(r)), lb.r);
+            lb.found |= win;
+        }
+    }
+
+    /// The lanes of `ties` where primitive `r` wins a tie of distances against the
+    /// candidate whose reference bits are in `cur` (the smaller key wins, as in
+    /// [`Geometry::offer`]). Rare: out of line.
+    #[cold]
+    #[inline(never)]
+    fn tie_wins<S: SimdF32>(&self, r: u32, ties: u32, cur: S) -> u32 {
+        let mut refs = [0.0f32; MAX_LANES];
+        cur.store(&mut refs);
+        let key = self.prims.key(r);
+        let mut win = 0u32;
+        each_lane(ties, |l| {
+            win |= u32::from(key < self.prims.key(refs[l].to_bits())) << l;
         });
-        S::select(S::Mask::from_bitmask(bits), t, t_max)
+        win
+    }
+
+    /// [`Geometry::single_closest`] for the lanes in `bits`, through the records
+    /// `best`.
+    #[inline(always)]
+    fn single_lanes<S: SimdF32>(
+        &self,
+        r: u32,
+        bits: u32,
+        su: &Setup<'_, S>,
+        lb: &mut LaneBest<S>,
+        best: &mut [Best<f32>; MAX_LANES],
+    ) {
+        lb.store(best);
+        if self.single_closest(r, bits, su, best) {
+            *lb = LaneBest::load(best);
+        }
     }
 
     /// The single-ray test and offer of primitive `r` for the lanes in `bits`; whether
@@ -413,32 +479,31 @@ impl Geometry<f32> {
         found
     }
 
-    /// The closest-hit tests of one leaf against the lanes `m`; the new `t_max`.
+    /// The closest-hit tests of one leaf against the lanes `m`.
     #[inline(always)]
     fn packet_leaf_closest<S: SimdF32>(
         &self,
         leaf: Leaf<'_>,
         m: u32,
         su: &Setup<'_, S>,
+        lb: &mut LaneBest<S>,
         best: &mut [Best<f32>; MAX_LANES],
-        mut t_max: S,
-    ) -> S {
+    ) {
         match leaf {
             Leaf::Refs(refs) => {
                 for &r in refs {
-                    t_max = self.packet_closest(r, m, su, best, t_max);
+                    self.packet_closest(r, m, su, lb, best);
                 }
             }
             Leaf::Grouped { child, count } => {
                 for (g, k) in self.groups(child, count).iter().zip((0..count).step_by(4)) {
                     for &i in &g.index[..(count - k).min(TRI4_LANES as u32) as usize] {
                         let r = make_ref(TRIANGLE, i as usize);
-                        t_max = self.packet_closest(r, m, su, best, t_max);
+                        self.packet_closest(r, m, su, lb, best);
                     }
                 }
             }
         }
-        t_max
     }
 
     /// The any-hit test of primitive `r` against the lanes `m`: the lanes it blocks.
@@ -599,15 +664,22 @@ impl Geometry<f32> {
         let Some(su) = Setup::<S>::new(rays, &rd) else {
             return 0;
         };
-        each_lane(su.valid, |l| best[l].t = su.t_limits[l]);
-        self.query(&mut ClosestPacket {
+        let mut q = ClosestPacket {
             geometry: self,
             su: &su,
             best,
-            t_max: su.t_limit,
+            lanes: LaneBest {
+                t: su.t_limit,
+                b1: S::zero(),
+                b2: S::zero(),
+                r: S::splat(f32::from_bits(NO_HIT)),
+                found: 0,
+            },
             switch,
             frustum,
-        });
+        };
+        self.query(&mut q);
+        q.lanes.store(q.best);
         su.valid
     }
 
@@ -806,9 +878,10 @@ fn dispatch<K: Kernel>(_isa: Isa, _kernel: K) -> K::Output {
 struct ClosestPacket<'a, S: SimdF32> {
     geometry: &'a Geometry<f32>,
     su: &'a Setup<'a, S>,
+    /// The lanes' records, for the single-ray paths.
     best: &'a mut [Best<f32>; MAX_LANES],
-    /// The lanes' closest distances so far, once the planes are tested.
-    t_max: S,
+    /// The lanes' candidates (their closest distances, once the planes are tested).
+    lanes: LaneBest<S>,
     /// The hand-over threshold of [`crate::bvh::Bvh::traverse4_packet`].
     switch: u32,
     /// Whether rays of one origin walk as a beam ([`crate::bvh::Bvh::traverse4_packet`]).
@@ -821,24 +894,22 @@ impl<S: SimdF32> Query for ClosestPacket<'_, S> {
     #[inline(always)]
     fn refs(&mut self, refs: impl Iterator<Item = u32>) -> bool {
         let (g, su) = (self.geometry, self.su);
-        let mut t_max = self.t_max;
         for r in refs {
-            t_max = g.packet_closest(r, su.valid, su, self.best, t_max);
+            g.packet_closest(r, su.valid, su, &mut self.lanes, self.best);
         }
-        self.t_max = t_max;
         false
     }
 
     #[inline(always)]
     fn wide(&mut self, bvh: &Bvh) -> bool {
-        let (su, t_max, switch, frustum) = (self.su, self.t_max, self.switch, self.frustum);
+        let (su, t_max, switch, frustum) = (self.su, self.lanes.t, self.switch, self.frustum);
         bvh.traverse4_packet(&su.ray, su.valid, t_max, switch, frustum, self);
         false
     }
 
     #[inline(always)]
     fn binary(&mut self, bvh: &Bvh) -> bool {
-        let (su, t_max) = (self.su, self.t_max);
+        let (su, t_max) = (self.su, self.lanes.t);
         bvh.traverse_packet(&su.ray, S::Mask::from_bitmask(su.valid), t_max, self);
         false
     }
@@ -846,16 +917,17 @@ impl<S: SimdF32> Query for ClosestPacket<'_, S> {
 
 impl<S: SimdF32> PacketVisitor<S> for ClosestPacket<'_, S> {
     #[inline(always)]
-    fn leaf(&mut self, leaf: Leaf<'_>, lanes: u32, t_max: S) -> Option<S> {
-        Some(
-            self.geometry
-                .packet_leaf_closest(leaf, lanes, self.su, self.best, t_max),
-        )
+    fn leaf(&mut self, leaf: Leaf<'_>, lanes: u32, _t_max: S) -> Option<S> {
+        // The walk's `t_max` is `self.lanes.t`: it changes only by what this returns.
+        self.geometry
+            .packet_leaf_closest(leaf, lanes, self.su, &mut self.lanes, self.best);
+        Some(self.lanes.t)
     }
 
     #[inline(always)]
     fn handover(&mut self, bvh: &Bvh, node: u32, lanes: u32, _t_max: S) -> Option<S> {
         let (g, su) = (self.geometry, self.su);
+        self.lanes.store(self.best);
         each_lane(lanes, |l| {
             RayQuery::<f32, false, true, { kinds::ALL }, false> {
                 g,
@@ -864,12 +936,14 @@ impl<S: SimdF32> PacketVisitor<S> for ClosestPacket<'_, S> {
             }
             .wide_from(bvh, node);
         });
-        Some(best_t::<S>(self.best))
+        self.lanes = LaneBest::load(self.best);
+        Some(self.lanes.t)
     }
 
     #[inline(always)]
     fn scatter(&mut self, lanes: u32) -> Option<S> {
         let (g, su) = (self.geometry, self.su);
+        self.lanes.store(self.best);
         each_lane(lanes, |l| {
             // The single ray's closest hit over every primitive: what its lane must end
             // with. No hit means none so far either (the tests are the same, bit for bit).
@@ -880,7 +954,8 @@ impl<S: SimdF32> PacketVisitor<S> for ClosestPacket<'_, S> {
                 self.best[l] = b;
             }
         });
-        Some(best_t::<S>(self.best))
+        self.lanes = LaneBest::load(self.best);
+        Some(self.lanes.t)
     }
 }
 
