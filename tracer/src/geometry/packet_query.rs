@@ -392,7 +392,11 @@ impl Geometry<f32> {
         let mut win = bits & (t.lt(lb.t).bitmask() | !lb.found);
         let ties = bits & !win;
         if ties != 0 {
-            win |= self.tie_wins(r, ties, lb.r);
+            // The store stays here, inlined into the target-feature caller, so that
+            // the cold function below holds no vector code.
+            let mut refs = [0.0f32; MAX_LANES];
+            lb.r.store(&mut refs);
+            win |= self.tie_wins(r, ties, &refs);
         }
         if win != 0 {
             let m = S::Mask::from_bitmask(win);
@@ -405,13 +409,11 @@ impl Geometry<f32> {
     }
 
     /// The lanes of `ties` where primitive `r` wins a tie of distances against the
-    /// candidate whose reference bits are in `cur` (the smaller key wins, as in
+    /// candidate whose reference bits are in `refs` (the smaller key wins, as in
     /// [`Geometry::offer`]). Rare: out of line.
     #[cold]
     #[inline(never)]
-    fn tie_wins<S: SimdF32>(&self, r: u32, ties: u32, cur: S) -> u32 {
-        let mut refs = [0.0f32; MAX_LANES];
-        cur.store(&mut refs);
+    fn tie_wins(&self, r: u32, ties: u32, refs: &[f32; MAX_LANES]) -> u32 {
         let key = self.prims.key(r);
         let mut win = 0u32;
         each_lane(ties, |l| {
