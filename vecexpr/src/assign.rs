@@ -11,12 +11,9 @@
 //! chain and lets the sum vectorise, at the price of a different (still deterministic)
 //! rounding order.
 
-use crate::expr::Expr;
 use crate::scalar::Scalar;
-use crate::vector::Vector;
 use core::mem::MaybeUninit;
 use generic_array::{ArrayLength, GenericArray};
-use typenum::Unsigned;
 
 /// Reductions at least this long use interleaved partial sums.
 pub const SPLIT_THRESHOLD: usize = 64;
@@ -41,74 +38,51 @@ pub const fn reduce_strategy(n: usize) -> ReduceStrategy {
     }
 }
 
-/// Writes `e` into `dst`, one element at a time, in one loop.
+/// What the element-wise loops read: element `i` of a source. Every expression is a
+/// source (the impl sits next to [`Expr`](crate::Expr)); the loops need nothing else of
+/// it, and the calls inline as `Expr::coeff` itself does.
+pub(crate) trait Source {
+    /// The element type.
+    type Item: Copy;
+    /// Element `i`.
+    fn at(&self, i: usize) -> Self::Item;
+}
+
+/// Writes `src` into `dst`, one element at a time, in one loop.
 #[inline(always)]
-pub(crate) fn assign_to<E: Expr>(dst: &mut GenericArray<E::Scalar, E::Dim>, e: &E) {
+pub(crate) fn assign_to<S: Source, N: ArrayLength>(dst: &mut GenericArray<S::Item, N>, src: &S) {
     let d = dst.as_mut_slice();
     for (i, x) in d.iter_mut().enumerate() {
-        *x = e.coeff(i);
+        *x = src.at(i);
     }
 }
 
-/// Writes `f(dst[i], e[i])` into `dst`: the in-place update loop.
+/// Writes `f(dst[i], src[i])` into `dst`: the in-place update loop.
 #[inline(always)]
-pub(crate) fn update<E: Expr>(
-    dst: &mut GenericArray<E::Scalar, E::Dim>,
-    e: &E,
-    f: impl Fn(E::Scalar, E::Scalar) -> E::Scalar,
+pub(crate) fn update<S: Source, N: ArrayLength>(
+    dst: &mut GenericArray<S::Item, N>,
+    src: &S,
+    f: impl Fn(S::Item, S::Item) -> S::Item,
 ) {
     let d = dst.as_mut_slice();
     for (i, x) in d.iter_mut().enumerate() {
-        *x = f(*x, e.coeff(i));
+        *x = f(*x, src.at(i));
     }
 }
 
-/// Evaluates `e` into a new vector without first initialising it.
+/// Evaluates `src` into a new array of `N` elements without first initialising it.
 #[inline(always)]
-pub(crate) fn eval<E: Expr>(e: &E) -> Vector<E::Scalar, E::Dim> {
-    let mut out = MaybeUninit::<GenericArray<E::Scalar, E::Dim>>::uninit();
-    let base = out.as_mut_ptr().cast::<E::Scalar>();
-    for i in 0..E::Dim::USIZE {
+pub(crate) fn eval<S: Source, N: ArrayLength>(src: &S) -> GenericArray<S::Item, N> {
+    let mut out = MaybeUninit::<GenericArray<S::Item, N>>::uninit();
+    let base = out.as_mut_ptr().cast::<S::Item>();
+    for i in 0..N::USIZE {
         // SAFETY: a GenericArray<T, N> is laid out as [T; N], so `base.add(i)` for
         // i < N stays inside `out` and is suitably aligned for T.
-        unsafe { base.add(i).write(e.coeff(i)) };
+        unsafe { base.add(i).write(src.at(i)) };
     }
-    // SAFETY: the loop above wrote all N elements; scalars are Copy, so an early
-    // unwind from `coeff` would only leak uninitialised stack memory, never read it.
-    Vector::from_generic_array(unsafe { out.assume_init() })
-}
-
-/// Fills a new heap allocation with `f(i)` without building the value on the stack.
-#[inline]
-pub(crate) fn boxed_from_fn<T, N: ArrayLength>(mut f: impl FnMut(usize) -> T) -> Box<Vector<T, N>> {
-    let mut b = Box::<Vector<T, N>>::new_uninit();
-    let base = b.as_mut_ptr().cast::<T>();
-    let mut guard = PartialInit { base, len: 0 };
-    for i in 0..N::USIZE {
-        // SAFETY: Vector<T, N> is repr(transparent) over GenericArray<T, N>, laid out as
-        // [T; N]; i < N keeps the write inside the allocation, and the slot is unwritten.
-        unsafe { base.add(i).write(f(i)) };
-        guard.len = i + 1;
-    }
-    core::mem::forget(guard);
-    // SAFETY: all N elements were written above.
-    unsafe { b.assume_init() }
-}
-
-/// Drops the elements written so far if `f` panics half-way through a boxed fill.
-struct PartialInit<T> {
-    base: *mut T,
-    len: usize,
-}
-
-impl<T> Drop for PartialInit<T> {
-    fn drop(&mut self) {
-        // SAFETY: exactly the first `len` elements were initialised and are dropped once;
-        // the allocation itself is freed by the Box of MaybeUninit that owns it.
-        unsafe {
-            core::ptr::drop_in_place(core::ptr::slice_from_raw_parts_mut(self.base, self.len))
-        };
-    }
+    // SAFETY: the loop above wrote all N elements; the items are Copy, so an early
+    // unwind from `at` would only leak uninitialised stack memory, never read or drop it.
+    unsafe { out.assume_init() }
 }
 
 /// $\sum_{i<n} f(i)$ with the strategy of [`reduce_strategy`].

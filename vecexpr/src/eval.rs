@@ -1,6 +1,7 @@
-//! Evaluators: how each node computes element `i`, and how each node, vector and scalar
-//! becomes an operand. One impl per node type; nothing here loops (the loop is in
-//! [`crate::assign`]).
+//! Evaluators: how each node computes element `i`, how each node, vector and scalar
+//! becomes an operand, and the vector methods that take an expression (`assign`,
+//! `update`, `approx_eq`). One impl per node type; the evaluation loops are in
+//! [`crate::assign`].
 
 use crate::expr::{
     Binary, Compare, Conform, Expr, Map, MaskAnd, MaskExpr, MaskNot, MaskOr, MulAdd, Operand,
@@ -8,8 +9,8 @@ use crate::expr::{
 };
 use crate::op::{BinaryOp, CompareOp, UnaryOp};
 use crate::packet::Packet;
-use crate::scalar::{Mask, Scalar};
-use crate::vector::Vector;
+use crate::scalar::{Mask, Real, Scalar};
+use crate::vector::{approx_eq_scalar, Vector};
 use generic_array::ArrayLength;
 
 impl<T: Scalar, N: ArrayLength> Expr for &Vector<T, N> {
@@ -198,6 +199,70 @@ node_operand!([M, A, B,] Select<M, A, B>);
 node_operand!([E, F,] Map<E, F>);
 node_operand!([E, T, N,] Conform<E, T, N>);
 node_operand!([] crate::Vec3A);
+
+/// The vector methods that take or build expressions: assignment, in-place update and
+/// normalisation, and comparison against any operand.
+impl<T: Scalar, N: ArrayLength> Vector<T, N> {
+    /// Evaluates `expr` into `self`, in one loop, without a temporary.
+    ///
+    /// The borrow checker refuses `a.assign(&a + &b)` (aliasing the destination); use
+    /// the in-place forms (`a += &b`, [`Vector::update`]) for that.
+    ///
+    /// # Examples
+    /// ```
+    /// use vecexpr::{Vector, typenum::U8};
+    /// let (a, b) = (Vector::<f64, U8>::splat(1.0), Vector::<f64, U8>::splat(2.0));
+    /// let mut out = Vector::<f64, U8>::zero();
+    /// out.assign(&a * 3.0 - &b);
+    /// assert_eq!(out, Vector::splat(1.0));
+    /// ```
+    #[inline(always)]
+    pub fn assign<E: Operand<T, N>>(&mut self, expr: E) {
+        crate::assign::assign_to(self.as_mut_generic_array(), &expr.into_expr());
+    }
+
+    /// In-place element-wise update: `self[i] = f(self[i], expr[i])`, in one loop.
+    ///
+    /// # Examples
+    /// ```
+    /// use vecexpr::vec3;
+    /// let mut a = vec3(1.0f32, 2.0, 3.0);
+    /// let b = vec3(1.0f32, 1.0, 1.0);
+    /// a.update(&b * 2.0, |old, new| old * new);
+    /// assert_eq!(a, vec3(2.0, 4.0, 6.0));
+    /// ```
+    #[inline(always)]
+    pub fn update<E: Operand<T, N>>(&mut self, expr: E, f: impl Fn(T, T) -> T) {
+        crate::assign::update(self.as_mut_generic_array(), &expr.into_expr(), f);
+    }
+
+    /// Normalises in place (same rules as [`Expr::normalize`]).
+    #[inline(always)]
+    pub fn normalize_mut(&mut self) {
+        let l2 = (&*self).length_squared();
+        let min = T::splat(<T::Elem as Real>::MIN_POSITIVE);
+        let max = T::splat(<T::Elem as Real>::MAX);
+        if l2.ge(min).and(l2.le(max)).all() {
+            let inv = l2.sqrt().recip();
+            self.apply(|x| x * inv);
+        } else {
+            *self = (&*self).normalize();
+        }
+    }
+
+    /// Is every element (every lane, for packets) within `tol` of the other's, relative
+    /// to the larger magnitude and absolutely for magnitudes below 1? NaN is never close
+    /// to anything; equal infinities are close.
+    ///
+    /// `|a - b| <= tol * max(1, |a|, |b|)` per element and lane.
+    pub fn approx_eq<E: Operand<T, N>>(&self, other: E, tol: T::Elem) -> bool {
+        let e = other.into_expr();
+        (0..N::USIZE).all(|i| {
+            let (a, b) = (self[i], e.coeff(i));
+            (0..T::LANES).all(|l| approx_eq_scalar(a.lane(l), b.lane(l), tol))
+        })
+    }
+}
 
 /// An owned vector is moved into the tree as an [`Owned`] leaf.
 impl<T: Scalar, N: ArrayLength, T2: Scalar, N2: ArrayLength> Operand<T2, N2> for Vector<T, N>

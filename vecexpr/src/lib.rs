@@ -87,7 +87,6 @@ pub use typenum;
 pub mod assign;
 mod eval;
 pub mod expr;
-mod geometry;
 pub mod guide;
 mod interop;
 pub mod matrix;

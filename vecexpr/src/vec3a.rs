@@ -385,7 +385,10 @@ impl Vec3A {
 // Called from Rust only: the C convention is used for its register passing, not for FFI.
 #[allow(improper_ctypes_definitions)]
 extern "C" fn normalize_slow(v: Reg) -> Reg {
-    Vec3A::from(crate::geometry::normalize(Vec3A::from_reg(v).to_vector())).reg()
+    Vec3A::from(crate::expr::geometry::normalize(
+        Vec3A::from_reg(v).to_vector(),
+    ))
+    .reg()
 }
 
 /// The rare path of [`Vec3A::normalize`]: the 12-byte vector's rescaling, out of line.
@@ -393,7 +396,10 @@ extern "C" fn normalize_slow(v: Reg) -> Reg {
 #[cold]
 #[inline(never)]
 fn normalize_slow(v: Reg) -> Reg {
-    Vec3A::from(crate::geometry::normalize(Vec3A::from_reg(v).to_vector())).reg()
+    Vec3A::from(crate::expr::geometry::normalize(
+        Vec3A::from_reg(v).to_vector(),
+    ))
+    .reg()
 }
 
 impl PartialEq for Vec3A {

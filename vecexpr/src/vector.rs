@@ -1,6 +1,5 @@
 //! The storage type: a fixed-size vector whose dimension is a typenum type.
 
-use crate::expr::{Expr, Operand};
 use crate::scalar::{Real, Scalar};
 use core::fmt;
 use core::ops::{Index, IndexMut};
@@ -11,8 +10,8 @@ use typenum::{Const, U2, U3, U4};
 /// A vector of `N` elements of type `T`, `N` a typenum unsigned (`U3`, `U1000`, ...).
 ///
 /// Storage is a [`GenericArray`], inline, with the layout of `[T; N]`. Arithmetic on
-/// vectors builds lazy expressions ([`Expr`]); nothing is computed until
-/// [`Expr::eval`] or [`Vector::assign`].
+/// vectors builds lazy expressions ([`Expr`](crate::Expr)); nothing is computed until
+/// [`Expr::eval`](crate::Expr::eval) or [`Vector::assign`].
 ///
 /// # Examples
 /// ```
@@ -70,6 +69,12 @@ impl<T, N: ArrayLength> Vector<T, N> {
         &self.data
     }
 
+    /// The underlying generic array, mutably borrowed.
+    #[inline(always)]
+    pub fn as_mut_generic_array(&mut self) -> &mut GenericArray<T, N> {
+        &mut self.data
+    }
+
     /// A vector whose element `i` is `f(i)`.
     #[inline(always)]
     pub fn from_fn(f: impl FnMut(usize) -> T) -> Self {
@@ -90,8 +95,19 @@ impl<T, N: ArrayLength> Vector<T, N> {
     /// # let _ = core::marker::PhantomData::<U1000000>;
     /// ```
     #[inline]
-    pub fn boxed_from_fn(f: impl FnMut(usize) -> T) -> Box<Self> {
-        crate::assign::boxed_from_fn(f)
+    pub fn boxed_from_fn(mut f: impl FnMut(usize) -> T) -> Box<Self> {
+        let mut b = Box::<Self>::new_uninit();
+        let base = b.as_mut_ptr().cast::<T>();
+        let mut guard = PartialInit { base, len: 0 };
+        for i in 0..N::USIZE {
+            // SAFETY: Vector<T, N> is repr(transparent) over GenericArray<T, N>, laid out as
+            // [T; N]; i < N keeps the write inside the allocation, and the slot is unwritten.
+            unsafe { base.add(i).write(f(i)) };
+            guard.len = i + 1;
+        }
+        core::mem::forget(guard);
+        // SAFETY: all N elements were written above.
+        unsafe { b.assume_init() }
     }
 
     /// Copies a slice of exactly `N` elements.
@@ -156,6 +172,22 @@ impl<T, N: ArrayLength> Vector<T, N> {
     }
 }
 
+/// Drops the elements written so far if `f` panics half-way through a boxed fill.
+struct PartialInit<T> {
+    base: *mut T,
+    len: usize,
+}
+
+impl<T> Drop for PartialInit<T> {
+    fn drop(&mut self) {
+        // SAFETY: exactly the first `len` elements were initialised and are dropped once;
+        // the allocation itself is freed by the Box of MaybeUninit that owns it.
+        unsafe {
+            core::ptr::drop_in_place(core::ptr::slice_from_raw_parts_mut(self.base, self.len))
+        };
+    }
+}
+
 impl<T: Copy, N: ArrayLength> Vector<T, N> {
     /// Every element set to `x`.
     #[inline(always)]
@@ -191,75 +223,12 @@ impl<T: Scalar, N: ArrayLength> Vector<T, N> {
         Self::from_fn(|j| if i == j { T::one() } else { T::zero() })
     }
 
-    /// Evaluates `expr` into `self`, in one loop, without a temporary.
-    ///
-    /// The borrow checker refuses `a.assign(&a + &b)` (aliasing the destination); use
-    /// the in-place forms (`a += &b`, [`Vector::update`]) for that.
-    ///
-    /// # Examples
-    /// ```
-    /// use vecexpr::{Vector, typenum::U8};
-    /// let (a, b) = (Vector::<f64, U8>::splat(1.0), Vector::<f64, U8>::splat(2.0));
-    /// let mut out = Vector::<f64, U8>::zero();
-    /// out.assign(&a * 3.0 - &b);
-    /// assert_eq!(out, Vector::splat(1.0));
-    /// ```
-    #[inline(always)]
-    pub fn assign<E: Operand<T, N>>(&mut self, expr: E) {
-        crate::assign::assign_to(&mut self.data, &expr.into_expr());
-    }
-
-    /// In-place element-wise update: `self[i] = f(self[i], expr[i])`, in one loop.
-    ///
-    /// # Examples
-    /// ```
-    /// use vecexpr::vec3;
-    /// let mut a = vec3(1.0f32, 2.0, 3.0);
-    /// let b = vec3(1.0f32, 1.0, 1.0);
-    /// a.update(&b * 2.0, |old, new| old * new);
-    /// assert_eq!(a, vec3(2.0, 4.0, 6.0));
-    /// ```
-    #[inline(always)]
-    pub fn update<E: Operand<T, N>>(&mut self, expr: E, f: impl Fn(T, T) -> T) {
-        crate::assign::update(&mut self.data, &expr.into_expr(), f);
-    }
-
     /// In-place map: `self[i] = f(self[i])`.
     #[inline(always)]
     pub fn apply(&mut self, f: impl Fn(T) -> T) {
         for x in self.data.iter_mut() {
             *x = f(*x);
         }
-    }
-
-    /// Normalises in place (same rules as [`Expr::normalize`]).
-    #[inline(always)]
-    pub fn normalize_mut(&mut self) {
-        let l2 = (&*self).length_squared();
-        let min = T::splat(<T::Elem as Real>::MIN_POSITIVE);
-        let max = T::splat(<T::Elem as Real>::MAX);
-        use crate::scalar::Mask;
-        if l2.ge(min).and(l2.le(max)).all() {
-            let inv = l2.sqrt().recip();
-            self.apply(|x| x * inv);
-        } else {
-            *self = (&*self).normalize();
-        }
-    }
-}
-
-impl<T: Scalar, N: ArrayLength> Vector<T, N> {
-    /// Is every element (every lane, for packets) within `tol` of the other's, relative
-    /// to the larger magnitude and absolutely for magnitudes below 1? NaN is never close
-    /// to anything; equal infinities are close.
-    ///
-    /// `|a - b| <= tol * max(1, |a|, |b|)` per element and lane.
-    pub fn approx_eq<E: Operand<T, N>>(&self, other: E, tol: T::Elem) -> bool {
-        let e = other.into_expr();
-        (0..N::USIZE).all(|i| {
-            let (a, b) = (self.data[i], e.coeff(i));
-            (0..T::LANES).all(|l| approx_eq_scalar(a.lane(l), b.lane(l), tol))
-        })
     }
 }
 

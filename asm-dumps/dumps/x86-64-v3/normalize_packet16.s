@@ -3,148 +3,108 @@
 # Toolchain: rustc 1.95.0 (59807616e), LLVM 22.1.2
 # Command: RUSTFLAGS="-C target-cpu=x86-64-v3" cargo rustc --release --target HOST -p asm-dumps --lib --config profile.release.opt-level=3 --config profile.release.codegen-units=1 --config profile.release.lto=false --config profile.release.debug=false --config profile.release.incremental=false -- --emit asm -C llvm-args=-x86-asm-syntax=intel
 # Bound: 154 instructions
-# Measured: 140 instructions, 114 SIMD, widest 256 bits, 1 calls, 2 branches, 47 stack accesses
+# Measured: 100 instructions, 82 SIMD, widest 256 bits, 1 calls, 2 branches, 28 stack accesses
 normalize_packet16:
 	push	rbx
-	sub	rsp, 544
-	vmovsd	xmm9, qword ptr [rdi]
-	vmovsd	xmm10, qword ptr [rdi + 8]
-	vmovups	xmm8, xmmword ptr [rdi + 16]
-	vmovups	ymm7, ymmword ptr [rdi + 32]
-	vmovsd	xmm5, qword ptr [rdi + 64]
-	vmovsd	xmm6, qword ptr [rdi + 72]
-	vmovups	xmm0, xmmword ptr [rdi + 80]
-	vmovups	ymm1, ymmword ptr [rdi + 96]
-	vmovsd	xmm3, qword ptr [rdi + 128]
-	vmovsd	xmm4, qword ptr [rdi + 136]
-	vmovups	xmm2, xmmword ptr [rdi + 144]
-	vmulps	ymm11, ymm7, ymm7
-	vmulps	xmm12, xmm8, xmm8
-	vmulps	xmm13, xmm10, xmm10
-	vmulps	xmm14, xmm9, xmm9
-	vmulps	xmm15, xmm5, xmm5
-	vaddps	xmm14, xmm14, xmm15
-	vmulps	xmm15, xmm6, xmm6
-	vaddps	xmm13, xmm13, xmm15
-	vmovaps	xmmword ptr [rsp], xmm0
-	vmulps	xmm15, xmm0, xmm0
-	vaddps	xmm0, xmm12, xmm15
-	vmovups	ymmword ptr [rsp + 128], ymm1
-	vmulps	ymm12, ymm1, ymm1
-	vaddps	ymm1, ymm11, ymm12
-	vmovaps	xmmword ptr [rsp + 32], xmm3
-	vmulps	xmm11, xmm3, xmm3
-	vaddps	xmm15, xmm14, xmm11
-	vmovaps	xmmword ptr [rsp + 16], xmm4
-	vmulps	xmm11, xmm4, xmm4
-	vaddps	xmm12, xmm13, xmm11
-	vmovaps	xmmword ptr [rsp + 48], xmm2
-	vmulps	xmm11, xmm2, xmm2
-	vaddps	xmm13, xmm11, xmm0
-	vmovups	ymm11, ymmword ptr [rdi + 160]
-	vmulps	ymm0, ymm11, ymm11
-	vaddps	ymm14, ymm1, ymm0
-	vinsertf128	ymm0, ymm13, xmm14, 1
-	vinsertf128	ymm1, ymm0, xmm13, 1
-	vshufps	ymm1, ymm1, ymm0, 3
-	vshufps	ymm0, ymm1, ymm0, 152
-	vmovshdup	xmm1, xmm12
-	vblendps	ymm0, ymm0, ymm1, 1
-	vmovlps	qword ptr [rsp + 64], xmm15
-	vmovss	dword ptr [rsp + 72], xmm12
-	vmovups	ymmword ptr [rsp + 76], ymm0
-	vmovaps	xmm0, xmmword ptr [rip + .LCPI_0]
-	vpermps	ymm0, ymm0, ymm14
-	vmovups	xmmword ptr [rsp + 108], xmm0
-	vextractf128	xmm0, ymm14, 1
-	vextractps	dword ptr [rsp + 124], xmm0, 3
-	vinsertf128	ymm0, ymm13, xmm12, 1
-	vpermilps	ymm0, ymm0, ymmword ptr [rip + .LCPI_2]
-	vshufps	xmm1, xmm15, xmm15, 20
-	vinsertf128	ymm1, ymm0, xmm1, 1
-	vblendps	ymm0, ymm0, ymm1, 192
-	vmovaps	ymm1, ymmword ptr [rip + .LCPI_1]
-	vpermps	ymm1, ymm1, ymm14
-	vbroadcastss	ymm15, dword ptr [rip + .LCPI_3]
-	vcmpleps	ymm2, ymm15, ymm0
-	vcmpleps	ymm15, ymm15, ymm1
-	vpackssdw	ymm2, ymm15, ymm2
-	vbroadcastss	ymm15, dword ptr [rip + .LCPI_4]
-	vcmpleps	ymm0, ymm0, ymm15
-	vcmpleps	ymm1, ymm1, ymm15
-	vpackssdw	ymm0, ymm1, ymm0
-	vpacksswb	ymm0, ymm2, ymm0
-	vpmovmskb	eax, ymm0
+	sub	rsp, 448
+	vmovups	ymm5, ymmword ptr [rdi]
+	vmovups	ymm4, ymmword ptr [rdi + 32]
+	vmovups	ymm3, ymmword ptr [rdi + 64]
+	vmovups	ymm2, ymmword ptr [rdi + 96]
+	vmovups	ymm1, ymmword ptr [rdi + 128]
+	vmovups	ymm0, ymmword ptr [rdi + 160]
+	vmulps	ymm6, ymm4, ymm4
+	vmulps	ymm7, ymm5, ymm5
+	vmulps	ymm8, ymm3, ymm3
+	vaddps	ymm7, ymm8, ymm7
+	vmulps	ymm8, ymm2, ymm2
+	vaddps	ymm6, ymm8, ymm6
+	vmulps	ymm8, ymm1, ymm1
+	vaddps	ymm9, ymm8, ymm7
+	vmulps	ymm7, ymm0, ymm0
+	vaddps	ymm6, ymm6, ymm7
+	vmovlps	qword ptr [rsp], xmm9
+	vextractf128	xmm7, ymm9, 1
+	vextractps	dword ptr [rsp + 8], xmm9, 2
+	vinsertf128	ymm8, ymm7, xmm6, 1
+	vpalignr	ymm8, ymm8, ymm9, 12
+	vmovdqu	ymmword ptr [rsp + 12], ymm8
+	vmovaps	xmm8, xmmword ptr [rip + .LCPI_0]
+	vpermps	ymm8, ymm8, ymm6
+	vmovups	xmmword ptr [rsp + 44], xmm8
+	vextractf128	xmm8, ymm6, 1
+	vextractps	dword ptr [rsp + 60], xmm8, 3
+	vshufpd	xmm8, xmm9, xmm9, 1
+	vinsertf128	ymm10, ymm7, xmm8, 1
+	vmovaps	ymm11, ymmword ptr [rip + .LCPI_1]
+	vpermps	ymm11, ymm11, ymm6
+	vpermilps	ymm10, ymm10, ymmword ptr [rip + .LCPI_2]
+	vshufps	xmm9, xmm9, xmm9, 20
+	vinsertf128	ymm9, ymm0, xmm9, 1
+	vblendps	ymm9, ymm10, ymm9, 192
+	vbroadcastss	ymm10, dword ptr [rip + .LCPI_3]
+	vcmpleps	ymm12, ymm10, ymm9
+	vcmpleps	ymm10, ymm10, ymm11
+	vpackssdw	ymm10, ymm10, ymm12
+	vbroadcastss	ymm12, dword ptr [rip + .LCPI_4]
+	vcmpleps	ymm9, ymm9, ymm12
+	vcmpleps	ymm11, ymm11, ymm12
+	vpackssdw	ymm9, ymm11, ymm9
+	vpacksswb	ymm9, ymm10, ymm9
+	vpmovmskb	eax, ymm9
 	cmp	eax, -1
 	jne	.LBB_1
-	vsqrtps	ymm0, ymm14
-	vbroadcastss	ymm1, dword ptr [rip + .LCPI_5]
-	vdivps	ymm0, ymm1, ymm0
-	vmovddup	xmm2, xmm12
-	vperm2f128	ymm2, ymm13, ymm2, 2
-	vblendps	ymm2, ymm2, ymmword ptr [rsp + 64], 3
-	vsqrtps	ymm2, ymm2
-	vdivps	ymm1, ymm1, ymm2
-	vmovlhps	xmm2, xmm9, xmm10
-	vinsertf128	ymm2, ymm2, xmm8, 1
-	vmulps	ymm2, ymm2, ymm1
-	vmulps	ymm7, ymm7, ymm0
+	vsqrtps	ymm6, ymm6
+	vbroadcastss	ymm9, dword ptr [rip + .LCPI_5]
+	vdivps	ymm6, ymm9, ymm6
+	vmovddup	xmm8, xmm8
+	vperm2f128	ymm7, ymm7, ymm8, 2
+	vblendps	ymm7, ymm7, ymmword ptr [rsp], 3
+	vsqrtps	ymm7, ymm7
+	vdivps	ymm7, ymm9, ymm7
+	vmulps	ymm5, ymm5, ymm7
+	vmulps	ymm4, ymm4, ymm6
+	vmovups	ymmword ptr [rsp + 64], ymm5
+	vmovups	ymmword ptr [rsp + 96], ymm4
+	vmulps	ymm3, ymm3, ymm7
+	vmulps	ymm2, ymm2, ymm6
+	vmovups	ymmword ptr [rsp + 128], ymm3
 	vmovups	ymmword ptr [rsp + 160], ymm2
-	vmovups	ymmword ptr [rsp + 192], ymm7
-	vmovlhps	xmm2, xmm5, xmm6
-	vinsertf128	ymm2, ymm2, xmmword ptr [rsp], 1
-	vmulps	ymm2, ymm2, ymm1
-	vmulps	ymm3, ymm0, ymmword ptr [rsp + 128]
-	vmovups	ymmword ptr [rsp + 224], ymm2
-	vmovups	ymmword ptr [rsp + 256], ymm3
-	vmovaps	xmm2, xmmword ptr [rsp + 32]
-	vunpcklpd	xmm2, xmm2, xmmword ptr [rsp + 16]
-	vinsertf128	ymm2, ymm2, xmmword ptr [rsp + 48], 1
-	vmulps	ymm1, ymm2, ymm1
-	vmulps	ymm0, ymm11, ymm0
-	vmovups	ymmword ptr [rsp + 288], ymm1
-	vmovups	ymmword ptr [rsp + 320], ymm0
+	vmulps	ymm1, ymm1, ymm7
+	vmulps	ymm0, ymm0, ymm6
+	vmovups	ymmword ptr [rsp + 192], ymm1
+	vmovups	ymmword ptr [rsp + 224], ymm0
 .LBB_3:
-	vmovups	ymm0, ymmword ptr [rsp + 320]
+	vmovups	ymm0, ymmword ptr [rsp + 224]
 	vmovups	ymmword ptr [rsi + 160], ymm0
-	vmovups	ymm0, ymmword ptr [rsp + 288]
+	vmovups	ymm0, ymmword ptr [rsp + 192]
 	vmovups	ymmword ptr [rsi + 128], ymm0
-	vmovups	ymm0, ymmword ptr [rsp + 160]
-	vmovups	ymm1, ymmword ptr [rsp + 192]
-	vmovups	ymm2, ymmword ptr [rsp + 224]
-	vmovups	ymm3, ymmword ptr [rsp + 256]
+	vmovups	ymm0, ymmword ptr [rsp + 64]
+	vmovups	ymm1, ymmword ptr [rsp + 96]
+	vmovups	ymm2, ymmword ptr [rsp + 128]
+	vmovups	ymm3, ymmword ptr [rsp + 160]
 	vmovups	ymmword ptr [rsi + 96], ymm3
 	vmovups	ymmword ptr [rsi + 64], ymm2
 	vmovups	ymmword ptr [rsi + 32], ymm1
 	vmovups	ymmword ptr [rsi], ymm0
-	add	rsp, 544
+	add	rsp, 448
 	pop	rbx
 	vzeroupper
 	ret
 .LBB_1:
-	vmovlhps	xmm0, xmm9, xmm10
-	vmovups	xmmword ptr [rsp + 352], xmm0
-	vmovups	xmmword ptr [rsp + 368], xmm8
-	vmovups	ymmword ptr [rsp + 384], ymm7
-	vmovlhps	xmm0, xmm5, xmm6
-	vmovups	xmmword ptr [rsp + 416], xmm0
-	vmovaps	xmm0, xmmword ptr [rsp]
-	vmovups	xmmword ptr [rsp + 432], xmm0
-	vmovups	ymm0, ymmword ptr [rsp + 128]
-	vmovups	ymmword ptr [rsp + 448], ymm0
-	vmovaps	xmm0, xmmword ptr [rsp + 32]
-	vunpcklpd	xmm0, xmm0, xmmword ptr [rsp + 16]
-	vmovups	xmmword ptr [rsp + 480], xmm0
-	vmovaps	xmm0, xmmword ptr [rsp + 48]
-	vmovups	xmmword ptr [rsp + 496], xmm0
-	vmovups	ymmword ptr [rsp + 512], ymm11
-	lea	rdi, [rsp + 160]
-	lea	rax, [rsp + 352]
-	lea	rdx, [rsp + 64]
+	vmovups	ymmword ptr [rsp + 256], ymm5
+	vmovups	ymmword ptr [rsp + 288], ymm4
+	vmovups	ymmword ptr [rsp + 320], ymm3
+	vmovups	ymmword ptr [rsp + 352], ymm2
+	vmovups	ymmword ptr [rsp + 384], ymm1
+	vmovups	ymmword ptr [rsp + 416], ymm0
+	lea	rdi, [rsp + 64]
+	lea	rax, [rsp + 256]
+	mov	rdx, rsp
 	mov	rbx, rsi
 	mov	rsi, rax
 	vzeroupper
-	call	qword ptr [rip + _ZN7vecexpr8geometry18normalize_rescaled17h695fc6dfb87b9964E@GOTPCREL]
+	call	qword ptr [rip + _ZN7vecexpr4expr8geometry18normalize_rescaled17h95baa1849d1f5fc5E@GOTPCREL]
 	mov	rsi, rbx
 	jmp	.LBB_3
 # constants

@@ -3,7 +3,7 @@
 # Toolchain: rustc 1.95.0 (59807616e), LLVM 22.1.2
 # Command: RUSTFLAGS="-C target-cpu=x86-64-v3" cargo rustc --release --target HOST -p asm-dumps --lib --config profile.release.opt-level=3 --config profile.release.codegen-units=1 --config profile.release.lto=false --config profile.release.debug=false --config profile.release.incremental=false -- --emit asm -C llvm-args=-x86-asm-syntax=intel
 # Bound: 163 instructions
-# Measured: 148 instructions, 130 SIMD, widest 256 bits, 1 calls, 2 branches, 31 stack accesses
+# Measured: 130 instructions, 112 SIMD, widest 256 bits, 1 calls, 2 branches, 28 stack accesses
 reflect_normalize_packet16:
 	push	rbx
 	sub	rsp, 448
@@ -43,77 +43,65 @@ reflect_normalize_packet16:
 	vmulps	ymm6, ymm12, ymm13
 	vsubps	ymm1, ymm7, ymm0
 	vsubps	ymm0, ymm8, ymm6
-	vshufpd	xmm7, xmm5, xmm5, 1
-	vextractf128	xmm6, ymm5, 1
-	vmulps	ymm8, ymm4, ymm4
-	vmulps	ymm9, ymm5, ymm5
-	vmulps	ymm10, ymm3, ymm3
-	vaddps	ymm9, ymm9, ymm10
-	vmulps	ymm10, ymm2, ymm2
-	vaddps	ymm8, ymm8, ymm10
-	vmulps	ymm10, ymm1, ymm1
-	vaddps	ymm10, ymm9, ymm10
-	vmulps	ymm9, ymm0, ymm0
-	vaddps	ymm8, ymm8, ymm9
-	vmovlps	qword ptr [rsp], xmm10
-	vextractf128	xmm9, ymm10, 1
-	vextractps	dword ptr [rsp + 8], xmm10, 2
-	vinsertf128	ymm11, ymm9, xmm8, 1
-	vpalignr	ymm11, ymm11, ymm10, 12
-	vmovdqu	ymmword ptr [rsp + 12], ymm11
-	vmovaps	xmm11, xmmword ptr [rip + .LCPI_0]
-	vpermps	ymm11, ymm11, ymm8
-	vmovups	xmmword ptr [rsp + 44], xmm11
-	vextractf128	xmm11, ymm8, 1
-	vextractps	dword ptr [rsp + 60], xmm11, 3
-	vshufpd	xmm14, xmm10, xmm10, 1
-	vinsertf128	ymm11, ymm9, xmm14, 1
-	vmovaps	ymm12, ymmword ptr [rip + .LCPI_1]
-	vpermps	ymm12, ymm12, ymm8
-	vpermilps	ymm11, ymm11, ymmword ptr [rip + .LCPI_2]
-	vshufps	xmm10, xmm10, xmm10, 20
-	vinsertf128	ymm10, ymm0, xmm10, 1
-	vblendps	ymm10, ymm11, ymm10, 192
-	vbroadcastss	ymm11, dword ptr [rip + .LCPI_3]
-	vcmpleps	ymm13, ymm11, ymm10
+	vmulps	ymm6, ymm4, ymm4
+	vmulps	ymm7, ymm5, ymm5
+	vmulps	ymm8, ymm3, ymm3
+	vaddps	ymm7, ymm8, ymm7
+	vmulps	ymm8, ymm2, ymm2
+	vaddps	ymm6, ymm8, ymm6
+	vmulps	ymm8, ymm1, ymm1
+	vaddps	ymm9, ymm8, ymm7
+	vmulps	ymm7, ymm0, ymm0
+	vaddps	ymm6, ymm6, ymm7
+	vmovlps	qword ptr [rsp], xmm9
+	vextractf128	xmm7, ymm9, 1
+	vextractps	dword ptr [rsp + 8], xmm9, 2
+	vinsertf128	ymm8, ymm7, xmm6, 1
+	vpalignr	ymm8, ymm8, ymm9, 12
+	vmovdqu	ymmword ptr [rsp + 12], ymm8
+	vmovaps	xmm8, xmmword ptr [rip + .LCPI_0]
+	vpermps	ymm8, ymm8, ymm6
+	vmovups	xmmword ptr [rsp + 44], xmm8
+	vextractf128	xmm8, ymm6, 1
+	vextractps	dword ptr [rsp + 60], xmm8, 3
+	vshufpd	xmm8, xmm9, xmm9, 1
+	vinsertf128	ymm10, ymm7, xmm8, 1
+	vmovaps	ymm11, ymmword ptr [rip + .LCPI_1]
+	vpermps	ymm11, ymm11, ymm6
+	vpermilps	ymm10, ymm10, ymmword ptr [rip + .LCPI_2]
+	vshufps	xmm9, xmm9, xmm9, 20
+	vinsertf128	ymm9, ymm0, xmm9, 1
+	vblendps	ymm9, ymm10, ymm9, 192
+	vbroadcastss	ymm10, dword ptr [rip + .LCPI_3]
+	vcmpleps	ymm12, ymm10, ymm9
+	vcmpleps	ymm10, ymm10, ymm11
+	vpackssdw	ymm10, ymm10, ymm12
+	vbroadcastss	ymm12, dword ptr [rip + .LCPI_4]
+	vcmpleps	ymm9, ymm9, ymm12
 	vcmpleps	ymm11, ymm11, ymm12
-	vpackssdw	ymm11, ymm11, ymm13
-	vbroadcastss	ymm13, dword ptr [rip + .LCPI_4]
-	vcmpleps	ymm10, ymm10, ymm13
-	vcmpleps	ymm12, ymm12, ymm13
-	vshufpd	xmm13, xmm3, xmm3, 1
-	vpackssdw	ymm10, ymm12, ymm10
-	vextractf128	xmm12, ymm3, 1
-	vpacksswb	ymm10, ymm11, ymm10
-	vshufpd	xmm11, xmm1, xmm1, 1
-	vpmovmskb	eax, ymm10
-	vextractf128	xmm10, ymm1, 1
+	vpackssdw	ymm9, ymm11, ymm9
+	vpacksswb	ymm9, ymm10, ymm9
+	vpmovmskb	eax, ymm9
 	cmp	eax, -1
 	jne	.LBB_1
-	vsqrtps	ymm8, ymm8
-	vbroadcastss	ymm15, dword ptr [rip + .LCPI_5]
-	vdivps	ymm8, ymm15, ymm8
-	vmovddup	xmm14, xmm14
-	vperm2f128	ymm9, ymm9, ymm14, 2
-	vblendps	ymm9, ymm9, ymmword ptr [rsp], 3
-	vsqrtps	ymm9, ymm9
-	vdivps	ymm9, ymm15, ymm9
-	vunpcklpd	xmm5, xmm5, xmm7
-	vinsertf128	ymm5, ymm5, xmm6, 1
-	vmulps	ymm5, ymm9, ymm5
-	vmulps	ymm4, ymm8, ymm4
+	vsqrtps	ymm6, ymm6
+	vbroadcastss	ymm9, dword ptr [rip + .LCPI_5]
+	vdivps	ymm6, ymm9, ymm6
+	vmovddup	xmm8, xmm8
+	vperm2f128	ymm7, ymm7, ymm8, 2
+	vblendps	ymm7, ymm7, ymmword ptr [rsp], 3
+	vsqrtps	ymm7, ymm7
+	vdivps	ymm7, ymm9, ymm7
+	vmulps	ymm5, ymm5, ymm7
+	vmulps	ymm4, ymm4, ymm6
 	vmovups	ymmword ptr [rsp + 64], ymm5
 	vmovups	ymmword ptr [rsp + 96], ymm4
-	vunpcklpd	xmm3, xmm3, xmm13
-	vinsertf128	ymm3, ymm3, xmm12, 1
-	vmulps	ymm3, ymm9, ymm3
-	vmulps	ymm2, ymm8, ymm2
+	vmulps	ymm3, ymm3, ymm7
+	vmulps	ymm2, ymm2, ymm6
 	vmovups	ymmword ptr [rsp + 128], ymm3
 	vmovups	ymmword ptr [rsp + 160], ymm2
-	vunpcklpd	xmm1, xmm1, xmm11
-	vinsertf128	ymm1, ymm1, xmm10, 1
-	vmulps	ymm1, ymm9, ymm1
-	vmulps	ymm0, ymm8, ymm0
+	vmulps	ymm1, ymm1, ymm7
+	vmulps	ymm0, ymm0, ymm6
 	vmovups	ymmword ptr [rsp + 192], ymm1
 	vmovups	ymmword ptr [rsp + 224], ymm0
 .LBB_3:
@@ -134,17 +122,11 @@ reflect_normalize_packet16:
 	vzeroupper
 	ret
 .LBB_1:
-	vunpcklpd	xmm5, xmm5, xmm7
-	vmovupd	xmmword ptr [rsp + 256], xmm5
-	vmovupd	xmmword ptr [rsp + 272], xmm6
+	vmovups	ymmword ptr [rsp + 256], ymm5
 	vmovups	ymmword ptr [rsp + 288], ymm4
-	vunpcklpd	xmm3, xmm3, xmm13
-	vmovupd	xmmword ptr [rsp + 320], xmm3
-	vmovupd	xmmword ptr [rsp + 336], xmm12
+	vmovups	ymmword ptr [rsp + 320], ymm3
 	vmovups	ymmword ptr [rsp + 352], ymm2
-	vunpcklpd	xmm1, xmm1, xmm11
-	vmovupd	xmmword ptr [rsp + 384], xmm1
-	vmovupd	xmmword ptr [rsp + 400], xmm10
+	vmovups	ymmword ptr [rsp + 384], ymm1
 	vmovups	ymmword ptr [rsp + 416], ymm0
 	lea	rdi, [rsp + 64]
 	lea	rsi, [rsp + 256]
@@ -152,7 +134,7 @@ reflect_normalize_packet16:
 	mov	rbx, rdx
 	mov	rdx, rax
 	vzeroupper
-	call	qword ptr [rip + _ZN7vecexpr8geometry18normalize_rescaled17h695fc6dfb87b9964E@GOTPCREL]
+	call	qword ptr [rip + _ZN7vecexpr4expr8geometry18normalize_rescaled17h95baa1849d1f5fc5E@GOTPCREL]
 	mov	rdx, rbx
 	jmp	.LBB_3
 # constants

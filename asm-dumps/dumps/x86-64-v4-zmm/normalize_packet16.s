@@ -3,97 +3,56 @@
 # Toolchain: rustc 1.95.0 (59807616e), LLVM 22.1.2
 # Command: RUSTFLAGS="-C target-cpu=x86-64-v4 -C target-feature=-prefer-256-bit" cargo rustc --release --target HOST -p asm-dumps --lib --config profile.release.opt-level=3 --config profile.release.codegen-units=1 --config profile.release.lto=false --config profile.release.debug=false --config profile.release.incremental=false -- --emit asm -C llvm-args=-x86-asm-syntax=intel
 # Bound: 128 instructions
-# Measured: 116 instructions, 88 SIMD, widest 512 bits, 1 calls, 2 branches, 25 stack accesses
+# Measured: 66 instructions, 46 SIMD, widest 512 bits, 1 calls, 2 branches, 19 stack accesses
 normalize_packet16:
 	push	rbx
 	sub	rsp, 448
-	vmovsd	xmm10, qword ptr [rdi]
-	vmovsd	xmm11, qword ptr [rdi + 8]
-	vmovups	xmm9, xmmword ptr [rdi + 16]
-	vmovups	ymm8, ymmword ptr [rdi + 32]
-	vmovsd	xmm6, qword ptr [rdi + 64]
-	vmovsd	xmm7, qword ptr [rdi + 72]
-	vmovups	xmm5, xmmword ptr [rdi + 80]
-	vmovups	ymm4, ymmword ptr [rdi + 96]
-	vmovsd	xmm2, qword ptr [rdi + 128]
-	vmovsd	xmm3, qword ptr [rdi + 136]
-	vmovups	xmm1, xmmword ptr [rdi + 144]
-	vmovups	ymm0, ymmword ptr [rdi + 160]
-	vmulps	ymm12, ymm8, ymm8
-	vmulps	xmm13, xmm9, xmm9
-	vmulps	xmm14, xmm11, xmm11
-	vmulps	xmm15, xmm10, xmm10
-	vmulps	xmm16, xmm6, xmm6
-	vaddps	xmm15, xmm15, xmm16
-	vmulps	xmm16, xmm7, xmm7
-	vaddps	xmm14, xmm14, xmm16
-	vmulps	xmm16, xmm5, xmm5
-	vaddps	xmm16, xmm13, xmm16
-	vmulps	ymm13, ymm4, ymm4
-	vaddps	ymm17, ymm12, ymm13
-	vmulps	xmm12, xmm2, xmm2
-	vaddps	xmm15, xmm15, xmm12
-	vmulps	xmm12, xmm3, xmm3
-	vaddps	xmm13, xmm14, xmm12
-	vmulps	xmm12, xmm1, xmm1
-	vaddps	xmm12, xmm16, xmm12
-	vmulps	ymm14, ymm0, ymm0
-	vaddps	ymm14, ymm17, ymm14
-	vmovlps	qword ptr [rsp], xmm15
-	vmovss	dword ptr [rsp + 8], xmm13
-	vinsertf32x4	ymm16, ymm12, xmm14, 1
-	vinsertf32x4	ymm17, ymm0, xmm12, 1
-	vmovaps	ymm18, ymmword ptr [rip + .LCPI_0]
-	vpermi2ps	ymm18, ymm16, ymm17
-	vmovaps	ymm16, ymmword ptr [rip + .LCPI_1]
-	vpermi2ps	ymm16, ymm18, ymm13
-	vmovups	ymmword ptr [rsp + 12], ymm16
-	vmovaps	xmm16, xmmword ptr [rip + .LCPI_2]
-	vpermps	ymm16, ymm16, ymm14
-	vextractf32x4	xmm17, ymm14, 1
-	vmovups	xmmword ptr [rsp + 44], xmm16
-	vextractps	dword ptr [rsp + 60], xmm17, 3
-	vinsertf32x4	zmm16, zmm14, xmm12, 2
-	vmovaps	zmm17, zmmword ptr [rip + .LCPI_3]
-	vpermi2ps	zmm17, zmm16, zmm13
-	vmovaps	zmm16, zmmword ptr [rip + .LCPI_4]
-	vpermi2ps	zmm16, zmm17, zmm15
-	vcmpgeps	k0, zmm16, dword ptr [rip + .LCPI_5]{1to16}
-	vcmpleps	k1, zmm16, dword ptr [rip + .LCPI_6]{1to16}
+	vmovups	zmm2, zmmword ptr [rdi]
+	vmovups	zmm1, zmmword ptr [rdi + 64]
+	vmovups	zmm0, zmmword ptr [rdi + 128]
+	vmulps	zmm3, zmm2, zmm2
+	vmulps	zmm4, zmm1, zmm1
+	vaddps	zmm3, zmm3, zmm4
+	vmulps	zmm4, zmm0, zmm0
+	vmovaps	ymm6, ymmword ptr [rip + .LCPI_0]
+	vaddps	zmm3, zmm3, zmm4
+	vextractf128	xmm4, ymm3, 1
+	vinsertf128	ymm5, ymm0, xmm4, 1
+	vpermi2ps	zmm6, zmm3, zmm5
+	vmovlps	qword ptr [rsp], xmm3
+	vextractf64x4	ymm5, zmm3, 1
+	vextractps	dword ptr [rsp + 8], xmm3, 2
+	vmovups	ymmword ptr [rsp + 12], ymm6
+	vmovaps	xmm6, xmmword ptr [rip + .LCPI_1]
+	vpermps	ymm6, ymm6, ymm5
+	vmovups	xmmword ptr [rsp + 44], xmm6
+	vextracti32x4	xmm6, zmm3, 3
+	vextractps	dword ptr [rsp + 60], xmm6, 3
+	vmovaps	zmm6, zmmword ptr [rip + .LCPI_2]
+	vpermps	zmm6, zmm6, zmm3
+	vcmpgeps	k0, zmm6, dword ptr [rip + .LCPI_3]{1to16}
+	vcmpleps	k1, zmm6, dword ptr [rip + .LCPI_4]{1to16}
 	kunpckwd	k0, k1, k0
 	kortestd	k0, k0
 	jae	.LBB_1
-	vmovddup	xmm13, xmm13
-	vinsertf64x4	zmm13, zmm13, ymm14, 1
-	vinsertf32x4	zmm12, zmm13, xmm12, 1
+	vinsertf64x4	zmm3, zmm3, ymm5, 1
+	vinsertf32x4	zmm3, zmm3, xmm4, 1
 	mov	al, 1
 	kmovd	k1, eax
-	vmovupd	zmm12 {k1}, zmmword ptr [rsp]
-	vsqrtps	zmm12, zmm12
-	vbroadcastss	zmm13, dword ptr [rip + .LCPI_7]
-	vdivps	zmm12, zmm13, zmm12
-	vinsertf128	ymm10, ymm10, xmm11, 1
-	vpermpd	ymm10, ymm10, 232
-	vinsertf32x4	zmm9, zmm10, xmm9, 1
-	vinsertf64x4	zmm8, zmm9, ymm8, 1
-	vmulps	zmm8, zmm8, zmm12
-	vmovups	zmmword ptr [rsp + 256], zmm8
-	vinsertf128	ymm6, ymm6, xmm7, 1
-	vpermpd	ymm6, ymm6, 232
-	vinsertf32x4	zmm5, zmm6, xmm5, 1
-	vinsertf64x4	zmm4, zmm5, ymm4, 1
-	vmulps	zmm4, zmm4, zmm12
-	vmovups	zmmword ptr [rsp + 320], zmm4
-	vinsertf128	ymm2, ymm2, xmm3, 1
-	vpermpd	ymm2, ymm2, 232
-	vinsertf32x4	zmm1, zmm2, xmm1, 1
-	vinsertf64x4	zmm0, zmm1, ymm0, 1
-	vmulps	zmm0, zmm0, zmm12
-	vmovups	zmmword ptr [rsp + 384], zmm0
+	vmovupd	zmm3 {k1}, zmmword ptr [rsp]
+	vsqrtps	zmm3, zmm3
+	vbroadcastss	zmm4, dword ptr [rip + .LCPI_5]
+	vdivps	zmm3, zmm4, zmm3
+	vmulps	zmm2, zmm2, zmm3
+	vmovups	zmmword ptr [rsp + 64], zmm2
+	vmulps	zmm1, zmm1, zmm3
+	vmovups	zmmword ptr [rsp + 128], zmm1
+	vmulps	zmm0, zmm0, zmm3
+	vmovups	zmmword ptr [rsp + 192], zmm0
 .LBB_3:
-	vmovups	zmm0, zmmword ptr [rsp + 256]
-	vmovups	zmm1, zmmword ptr [rsp + 320]
-	vmovups	zmm2, zmmword ptr [rsp + 384]
+	vmovups	zmm0, zmmword ptr [rsp + 64]
+	vmovups	zmm1, zmmword ptr [rsp + 128]
+	vmovups	zmm2, zmmword ptr [rsp + 192]
 	vmovups	zmmword ptr [rsi + 128], zmm2
 	vmovups	zmmword ptr [rsi + 64], zmm1
 	vmovups	zmmword ptr [rsi], zmm0
@@ -102,88 +61,53 @@ normalize_packet16:
 	vzeroupper
 	ret
 .LBB_1:
-	vmovlhps	xmm10, xmm10, xmm11
-	vmovups	xmmword ptr [rsp + 64], xmm10
-	vmovups	xmmword ptr [rsp + 80], xmm9
-	vmovups	ymmword ptr [rsp + 96], ymm8
-	vmovlhps	xmm6, xmm6, xmm7
-	vmovups	xmmword ptr [rsp + 128], xmm6
-	vmovups	xmmword ptr [rsp + 144], xmm5
-	vmovups	ymmword ptr [rsp + 160], ymm4
-	vmovlhps	xmm2, xmm2, xmm3
-	vmovups	xmmword ptr [rsp + 192], xmm2
-	vmovups	xmmword ptr [rsp + 208], xmm1
-	vmovups	ymmword ptr [rsp + 224], ymm0
-	lea	rdi, [rsp + 256]
-	lea	rax, [rsp + 64]
+	vmovups	zmmword ptr [rsp + 256], zmm2
+	vmovups	zmmword ptr [rsp + 320], zmm1
+	vmovups	zmmword ptr [rsp + 384], zmm0
+	lea	rdi, [rsp + 64]
+	lea	rax, [rsp + 256]
 	mov	rdx, rsp
 	mov	rbx, rsi
 	mov	rsi, rax
 	vzeroupper
-	call	qword ptr [rip + _ZN7vecexpr8geometry18normalize_rescaled17h695fc6dfb87b9964E@GOTPCREL]
+	call	qword ptr [rip + _ZN7vecexpr4expr8geometry18normalize_rescaled17h95baa1849d1f5fc5E@GOTPCREL]
 	mov	rsi, rbx
 	jmp	.LBB_3
 # constants
 .LCPI_0:
-	.zero	4
-	.long	0
-	.long	1
-	.long	2
-	.long	15
+	.long	3
 	.long	4
 	.long	5
 	.long	6
+	.long	23
+	.long	8
+	.long	9
+	.long	10
 .LCPI_1:
-	.long	9
-	.long	1
-	.long	2
 	.long	3
 	.long	4
 	.long	5
 	.long	6
-	.long	7
 .LCPI_2:
-	.long	3
-	.long	4
-	.long	5
-	.long	6
-.LCPI_3:
-	.long	7
-	.long	6
-	.long	5
-	.long	4
-	.long	3
-	.long	2
-	.long	1
-	.long	0
-	.long	11
-	.long	10
-	.long	9
-	.long	8
-	.long	17
-	.long	16
-	.zero	4
-	.zero	4
-.LCPI_4:
-	.long	0
-	.long	1
-	.long	2
-	.long	3
-	.long	4
-	.long	5
-	.long	6
-	.long	7
-	.long	8
-	.long	9
-	.long	10
-	.long	11
-	.long	12
+	.long	15
+	.long	14
 	.long	13
-	.long	17
-	.long	16
-.LCPI_5:
+	.long	12
+	.long	11
+	.long	10
+	.long	9
+	.long	8
+	.long	7
+	.long	6
+	.long	5
+	.long	4
+	.long	3
+	.long	2
+	.long	1
+	.long	0
+.LCPI_3:
 	.long	0x00800000
-.LCPI_6:
+.LCPI_4:
 	.long	0x7f7fffff
-.LCPI_7:
+.LCPI_5:
 	.long	0x3f800000

@@ -3,89 +3,71 @@
 # Toolchain: rustc 1.95.0 (59807616e), LLVM 22.1.2
 # Command: RUSTFLAGS="-C target-cpu=x86-64-v4 -C target-feature=-prefer-256-bit" cargo rustc --release --target HOST -p asm-dumps --lib --config profile.release.opt-level=3 --config profile.release.codegen-units=1 --config profile.release.lto=false --config profile.release.debug=false --config profile.release.incremental=false -- --emit asm -C llvm-args=-x86-asm-syntax=intel
 # Bound: 119 instructions
-# Measured: 108 instructions, 88 SIMD, widest 512 bits, 1 calls, 2 branches, 25 stack accesses
+# Measured: 81 instructions, 61 SIMD, widest 512 bits, 1 calls, 2 branches, 19 stack accesses
 reflect_normalize_packet16:
 	push	rbx
 	sub	rsp, 448
 	vmovups	zmm0, zmmword ptr [rdi]
 	vmovups	zmm1, zmmword ptr [rdi + 64]
-	vmovups	zmm2, zmmword ptr [rdi + 128]
-	vmovups	zmm3, zmmword ptr [rsi]
+	vmovups	zmm3, zmmword ptr [rdi + 128]
+	vmovups	zmm2, zmmword ptr [rsi]
 	vmovups	zmm4, zmmword ptr [rsi + 64]
 	vmovups	zmm5, zmmword ptr [rsi + 128]
-	vmulps	zmm6, zmm3, zmm0
+	vmulps	zmm6, zmm2, zmm0
 	vmulps	zmm7, zmm4, zmm1
 	vaddps	zmm6, zmm6, zmm7
-	vmulps	zmm7, zmm5, zmm2
+	vmulps	zmm7, zmm5, zmm3
 	vaddps	zmm6, zmm6, zmm7
 	vaddps	zmm6, zmm6, zmm6
-	vmulps	zmm3, zmm3, zmm6
-	vsubps	zmm7, zmm0, zmm3
+	vmulps	zmm2, zmm2, zmm6
+	vsubps	zmm2, zmm0, zmm2
 	vmulps	zmm0, zmm4, zmm6
 	vsubps	zmm1, zmm1, zmm0
 	vmulps	zmm0, zmm5, zmm6
-	vsubps	zmm0, zmm2, zmm0
-	vshufpd	xmm11, xmm7, xmm7, 1
-	vextractf128	xmm10, ymm7, 1
-	vextractf64x4	ymm9, zmm7, 1
-	vshufpd	xmm8, xmm1, xmm1, 1
-	vextractf128	xmm6, ymm1, 1
-	vextractf64x4	ymm5, zmm1, 1
-	vshufpd	xmm4, xmm0, xmm0, 1
-	vextractf128	xmm3, ymm0, 1
-	vextractf64x4	ymm2, zmm0, 1
-	vmulps	zmm12, zmm7, zmm7
-	vmulps	zmm13, zmm1, zmm1
-	vaddps	zmm12, zmm12, zmm13
-	vmulps	zmm13, zmm0, zmm0
-	vaddps	zmm12, zmm12, zmm13
-	vextractf128	xmm13, ymm12, 1
-	vinsertf128	ymm14, ymm0, xmm13, 1
-	vmovaps	ymm15, ymmword ptr [rip + .LCPI_0]
-	vpermi2ps	zmm15, zmm12, zmm14
-	vmovlps	qword ptr [rsp], xmm12
-	vextractf64x4	ymm14, zmm12, 1
-	vextractps	dword ptr [rsp + 8], xmm12, 2
-	vmovups	ymmword ptr [rsp + 12], ymm15
-	vmovaps	xmm15, xmmword ptr [rip + .LCPI_1]
-	vpermps	ymm15, ymm15, ymm14
-	vmovups	xmmword ptr [rsp + 44], xmm15
-	vextracti32x4	xmm15, zmm12, 3
-	vextractps	dword ptr [rsp + 60], xmm15, 3
-	vmovaps	zmm15, zmmword ptr [rip + .LCPI_2]
-	vpermps	zmm15, zmm15, zmm12
-	vcmpgeps	k0, zmm15, dword ptr [rip + .LCPI_3]{1to16}
-	vcmpleps	k1, zmm15, dword ptr [rip + .LCPI_4]{1to16}
+	vsubps	zmm0, zmm3, zmm0
+	vmulps	zmm3, zmm2, zmm2
+	vmulps	zmm4, zmm1, zmm1
+	vaddps	zmm3, zmm3, zmm4
+	vmulps	zmm4, zmm0, zmm0
+	vaddps	zmm3, zmm3, zmm4
+	vextractf128	xmm4, ymm3, 1
+	vinsertf128	ymm5, ymm0, xmm4, 1
+	vmovaps	ymm6, ymmword ptr [rip + .LCPI_0]
+	vpermi2ps	zmm6, zmm3, zmm5
+	vmovlps	qword ptr [rsp], xmm3
+	vextractf64x4	ymm5, zmm3, 1
+	vextractps	dword ptr [rsp + 8], xmm3, 2
+	vmovups	ymmword ptr [rsp + 12], ymm6
+	vmovaps	xmm6, xmmword ptr [rip + .LCPI_1]
+	vpermps	ymm6, ymm6, ymm5
+	vmovups	xmmword ptr [rsp + 44], xmm6
+	vextracti32x4	xmm6, zmm3, 3
+	vextractps	dword ptr [rsp + 60], xmm6, 3
+	vmovaps	zmm6, zmmword ptr [rip + .LCPI_2]
+	vpermps	zmm6, zmm6, zmm3
+	vcmpgeps	k0, zmm6, dword ptr [rip + .LCPI_3]{1to16}
+	vcmpleps	k1, zmm6, dword ptr [rip + .LCPI_4]{1to16}
 	kunpckwd	k0, k1, k0
 	kortestd	k0, k0
 	jae	.LBB_1
-	vinsertf64x4	zmm12, zmm12, ymm14, 1
-	vinsertf32x4	zmm12, zmm12, xmm13, 1
+	vinsertf64x4	zmm3, zmm3, ymm5, 1
+	vinsertf32x4	zmm3, zmm3, xmm4, 1
 	mov	al, 1
 	kmovd	k1, eax
-	vmovupd	zmm12 {k1}, zmmword ptr [rsp]
-	vsqrtps	zmm12, zmm12
-	vbroadcastss	zmm13, dword ptr [rip + .LCPI_5]
-	vdivps	zmm12, zmm13, zmm12
-	vunpcklpd	xmm7, xmm7, xmm11
-	vinsertf32x4	zmm7, zmm7, xmm10, 1
-	vinsertf64x4	zmm7, zmm7, ymm9, 1
-	vmulps	zmm7, zmm7, zmm12
-	vmovups	zmmword ptr [rsp + 256], zmm7
-	vunpcklpd	xmm1, xmm1, xmm8
-	vinsertf32x4	zmm1, zmm1, xmm6, 1
-	vinsertf64x4	zmm1, zmm1, ymm5, 1
-	vmulps	zmm1, zmm1, zmm12
-	vmovups	zmmword ptr [rsp + 320], zmm1
-	vunpcklpd	xmm0, xmm0, xmm4
-	vinsertf32x4	zmm0, zmm0, xmm3, 1
-	vinsertf64x4	zmm0, zmm0, ymm2, 1
-	vmulps	zmm0, zmm0, zmm12
-	vmovups	zmmword ptr [rsp + 384], zmm0
+	vmovupd	zmm3 {k1}, zmmword ptr [rsp]
+	vsqrtps	zmm3, zmm3
+	vbroadcastss	zmm4, dword ptr [rip + .LCPI_5]
+	vdivps	zmm3, zmm4, zmm3
+	vmulps	zmm2, zmm2, zmm3
+	vmovups	zmmword ptr [rsp + 64], zmm2
+	vmulps	zmm1, zmm1, zmm3
+	vmovups	zmmword ptr [rsp + 128], zmm1
+	vmulps	zmm0, zmm0, zmm3
+	vmovups	zmmword ptr [rsp + 192], zmm0
 .LBB_3:
-	vmovups	zmm0, zmmword ptr [rsp + 256]
-	vmovups	zmm1, zmmword ptr [rsp + 320]
-	vmovups	zmm2, zmmword ptr [rsp + 384]
+	vmovups	zmm0, zmmword ptr [rsp + 64]
+	vmovups	zmm1, zmmword ptr [rsp + 128]
+	vmovups	zmm2, zmmword ptr [rsp + 192]
 	vmovups	zmmword ptr [rdx + 128], zmm2
 	vmovups	zmmword ptr [rdx + 64], zmm1
 	vmovups	zmmword ptr [rdx], zmm0
@@ -94,25 +76,16 @@ reflect_normalize_packet16:
 	vzeroupper
 	ret
 .LBB_1:
-	vunpcklpd	xmm7, xmm7, xmm11
-	vmovupd	xmmword ptr [rsp + 64], xmm7
-	vmovupd	xmmword ptr [rsp + 80], xmm10
-	vmovupd	ymmword ptr [rsp + 96], ymm9
-	vunpcklpd	xmm1, xmm1, xmm8
-	vmovupd	xmmword ptr [rsp + 128], xmm1
-	vmovupd	xmmword ptr [rsp + 144], xmm6
-	vmovupd	ymmword ptr [rsp + 160], ymm5
-	vunpcklpd	xmm0, xmm0, xmm4
-	vmovupd	xmmword ptr [rsp + 192], xmm0
-	vmovupd	xmmword ptr [rsp + 208], xmm3
-	vmovupd	ymmword ptr [rsp + 224], ymm2
-	lea	rdi, [rsp + 256]
-	lea	rsi, [rsp + 64]
+	vmovups	zmmword ptr [rsp + 256], zmm2
+	vmovups	zmmword ptr [rsp + 320], zmm1
+	vmovups	zmmword ptr [rsp + 384], zmm0
+	lea	rdi, [rsp + 64]
+	lea	rsi, [rsp + 256]
 	mov	rax, rsp
 	mov	rbx, rdx
 	mov	rdx, rax
 	vzeroupper
-	call	qword ptr [rip + _ZN7vecexpr8geometry18normalize_rescaled17h695fc6dfb87b9964E@GOTPCREL]
+	call	qword ptr [rip + _ZN7vecexpr4expr8geometry18normalize_rescaled17h95baa1849d1f5fc5E@GOTPCREL]
 	mov	rdx, rbx
 	jmp	.LBB_3
 # constants

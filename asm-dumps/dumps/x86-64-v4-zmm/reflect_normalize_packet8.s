@@ -60,7 +60,7 @@ reflect_normalize_packet8:
 	mov	rbx, rdx
 	mov	rdx, rax
 	vzeroupper
-	call	qword ptr [rip + _ZN7vecexpr8geometry18normalize_rescaled17h9c8d8d2d9a7e9dedE@GOTPCREL]
+	call	qword ptr [rip + _ZN7vecexpr4expr8geometry18normalize_rescaled17h8d8f9ed66c850e0bE@GOTPCREL]
 	mov	rdx, rbx
 	jmp	.LBB_3
 # constants

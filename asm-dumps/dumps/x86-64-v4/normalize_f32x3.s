@@ -42,7 +42,7 @@ normalize_f32x3:
 	lea	rax, [rsp + 16]
 	mov	rbx, rsi
 	mov	rsi, rax
-	call	qword ptr [rip + _ZN7vecexpr8geometry18normalize_rescaled17hb934c4e4a44013d2E@GOTPCREL]
+	call	qword ptr [rip + _ZN7vecexpr4expr8geometry18normalize_rescaled17h77eaf858ff2f2539E@GOTPCREL]
 	mov	rsi, rbx
 	jmp	.LBB_4
 # constants

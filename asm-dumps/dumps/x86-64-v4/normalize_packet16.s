@@ -3,92 +3,63 @@
 # Toolchain: rustc 1.95.0 (59807616e), LLVM 22.1.2
 # Command: RUSTFLAGS="-C target-cpu=x86-64-v4" cargo rustc --release --target HOST -p asm-dumps --lib --config profile.release.opt-level=3 --config profile.release.codegen-units=1 --config profile.release.lto=false --config profile.release.debug=false --config profile.release.incremental=false -- --emit asm -C llvm-args=-x86-asm-syntax=intel
 # Bound: 134 instructions
-# Measured: 121 instructions, 96 SIMD, widest 512 bits, 1 calls, 2 branches, 31 stack accesses
+# Measured: 86 instructions, 68 SIMD, widest 512 bits, 1 calls, 2 branches, 28 stack accesses
 normalize_packet16:
 	push	rbx
 	sub	rsp, 448
-	vmovsd	xmm10, qword ptr [rdi]
-	vmovsd	xmm11, qword ptr [rdi + 8]
-	vmovups	xmm9, xmmword ptr [rdi + 16]
-	vmovups	ymm8, ymmword ptr [rdi + 32]
-	vmovsd	xmm6, qword ptr [rdi + 64]
-	vmovsd	xmm7, qword ptr [rdi + 72]
-	vmovups	xmm5, xmmword ptr [rdi + 80]
-	vmovups	ymm4, ymmword ptr [rdi + 96]
-	vmovsd	xmm2, qword ptr [rdi + 128]
-	vmovsd	xmm3, qword ptr [rdi + 136]
-	vmovups	xmm1, xmmword ptr [rdi + 144]
-	vmovups	ymm19, ymmword ptr [rdi + 160]
-	vmulps	ymm12, ymm8, ymm8
-	vmulps	xmm13, xmm9, xmm9
-	vmulps	xmm14, xmm11, xmm11
-	vmulps	xmm15, xmm10, xmm10
-	vmulps	xmm16, xmm6, xmm6
-	vaddps	xmm15, xmm15, xmm16
-	vmulps	xmm16, xmm7, xmm7
-	vaddps	xmm14, xmm14, xmm16
-	vmulps	xmm16, xmm5, xmm5
-	vaddps	xmm13, xmm13, xmm16
-	vmulps	ymm16, ymm4, ymm4
-	vaddps	ymm16, ymm12, ymm16
-	vmulps	xmm12, xmm2, xmm2
-	vaddps	xmm15, xmm15, xmm12
-	vmulps	xmm12, xmm3, xmm3
-	vaddps	xmm12, xmm14, xmm12
-	vmulps	xmm14, xmm1, xmm1
-	vaddps	xmm13, xmm13, xmm14
-	vmulps	ymm14, ymm19, ymm19
-	vaddps	ymm14, ymm16, ymm14
-	vmovlps	qword ptr [rsp], xmm15
-	vmovss	dword ptr [rsp + 8], xmm12
-	vinsertf32x4	ymm16, ymm13, xmm14, 1
-	vinsertf32x4	ymm17, ymm0, xmm13, 1
-	vmovaps	ymm18, ymmword ptr [rip + .LCPI_0]
-	vpermi2ps	ymm18, ymm16, ymm17
-	vmovaps	ymm16, ymmword ptr [rip + .LCPI_1]
-	vpermi2ps	ymm16, ymm18, ymm12
-	vmovups	ymmword ptr [rsp + 12], ymm16
-	vmovaps	xmm16, xmmword ptr [rip + .LCPI_2]
-	vpermps	ymm16, ymm16, ymm14
-	vextractf32x4	xmm17, ymm14, 1
-	vmovups	xmmword ptr [rsp + 44], xmm16
-	vextractps	dword ptr [rsp + 60], xmm17, 3
-	vinsertf32x4	zmm16, zmm14, xmm13, 2
-	vmovaps	zmm17, zmmword ptr [rip + .LCPI_3]
-	vpermi2ps	zmm17, zmm16, zmm12
-	vmovaps	zmm16, zmmword ptr [rip + .LCPI_4]
-	vpermi2ps	zmm16, zmm17, zmm15
-	vcmpgeps	k0, zmm16, dword ptr [rip + .LCPI_5]{1to16}
-	vcmpleps	k1, zmm16, dword ptr [rip + .LCPI_6]{1to16}
+	vmovups	ymm5, ymmword ptr [rdi]
+	vmovups	ymm4, ymmword ptr [rdi + 32]
+	vmovups	ymm3, ymmword ptr [rdi + 64]
+	vmovups	ymm2, ymmword ptr [rdi + 96]
+	vmovups	ymm1, ymmword ptr [rdi + 128]
+	vmovups	ymm0, ymmword ptr [rdi + 160]
+	vmulps	ymm6, ymm4, ymm4
+	vmulps	ymm7, ymm5, ymm5
+	vmulps	ymm8, ymm3, ymm3
+	vaddps	ymm8, ymm8, ymm7
+	vmulps	ymm7, ymm2, ymm2
+	vaddps	ymm6, ymm6, ymm7
+	vmulps	ymm9, ymm1, ymm1
+	vmulps	ymm7, ymm0, ymm0
+	vaddps	ymm7, ymm6, ymm7
+	vaddps	ymm6, ymm8, ymm9
+	vmovlps	qword ptr [rsp], xmm6
+	vextractps	dword ptr [rsp + 8], xmm6, 2
+	valignd	ymm8, ymm7, ymm6, 3
+	vmovdqu	ymmword ptr [rsp + 12], ymm8
+	vmovaps	xmm8, xmmword ptr [rip + .LCPI_0]
+	vpermps	ymm8, ymm8, ymm7
+	vextracti128	xmm9, ymm7, 1
+	vmovups	xmmword ptr [rsp + 44], xmm8
+	vextractps	dword ptr [rsp + 60], xmm9, 3
+	vextractf128	xmm8, ymm6, 1
+	vinsertf32x4	zmm9, zmm7, xmm8, 2
+	vmovaps	zmm10, zmmword ptr [rip + .LCPI_1]
+	vpermi2ps	zmm10, zmm9, zmm6
+	vcmpgeps	k0, zmm10, dword ptr [rip + .LCPI_2]{1to16}
+	vcmpleps	k1, zmm10, dword ptr [rip + .LCPI_3]{1to16}
 	kunpckwd	k0, k1, k0
 	kortestd	k0, k0
 	jae	.LBB_1
-	vsqrtps	ymm14, ymm14
-	vbroadcastss	ymm15, dword ptr [rip + .LCPI_7]
-	vmovapd	ymm0, ymmword ptr [rip + .LCPI_8]
-	vdivps	ymm14, ymm15, ymm14
-	vpermi2pd	ymm0, ymm13, ymm12
-	vblendpd	ymm0, ymm0, ymmword ptr [rsp], 1
-	vsqrtps	ymm0, ymm0
-	vdivps	ymm0, ymm15, ymm0
-	vmovlhps	xmm10, xmm10, xmm11
-	vinsertf128	ymm9, ymm10, xmm9, 1
-	vmulps	ymm9, ymm9, ymm0
-	vmulps	ymm8, ymm8, ymm14
-	vmovups	ymmword ptr [rsp + 64], ymm9
-	vmovups	ymmword ptr [rsp + 96], ymm8
-	vmovlhps	xmm6, xmm6, xmm7
-	vinsertf128	ymm5, ymm6, xmm5, 1
-	vmulps	ymm5, ymm5, ymm0
-	vmulps	ymm4, ymm14, ymm4
-	vmovups	ymmword ptr [rsp + 128], ymm5
-	vmovups	ymmword ptr [rsp + 160], ymm4
-	vmovlhps	xmm2, xmm2, xmm3
-	vinsertf128	ymm1, ymm2, xmm1, 1
-	vmulps	ymm0, ymm1, ymm0
-	vmulps	ymm1, ymm19, ymm14
-	vmovups	ymmword ptr [rsp + 192], ymm0
-	vmovups	ymmword ptr [rsp + 224], ymm1
+	vsqrtps	ymm7, ymm7
+	vbroadcastss	ymm9, dword ptr [rip + .LCPI_4]
+	vdivps	ymm7, ymm9, ymm7
+	vperm2f128	ymm6, ymm8, ymm6, 2
+	vblendps	ymm6, ymm6, ymmword ptr [rsp], 3
+	vsqrtps	ymm6, ymm6
+	vdivps	ymm6, ymm9, ymm6
+	vmulps	ymm5, ymm5, ymm6
+	vmulps	ymm4, ymm4, ymm7
+	vmovups	ymmword ptr [rsp + 64], ymm5
+	vmovups	ymmword ptr [rsp + 96], ymm4
+	vmulps	ymm3, ymm3, ymm6
+	vmulps	ymm2, ymm2, ymm7
+	vmovups	ymmword ptr [rsp + 128], ymm3
+	vmovups	ymmword ptr [rsp + 160], ymm2
+	vmulps	ymm1, ymm1, ymm6
+	vmulps	ymm0, ymm0, ymm7
+	vmovups	ymmword ptr [rsp + 192], ymm1
+	vmovups	ymmword ptr [rsp + 224], ymm0
 .LBB_3:
 	vmovups	ymm0, ymmword ptr [rsp + 224]
 	vmovups	ymmword ptr [rsi + 160], ymm0
@@ -107,93 +78,47 @@ normalize_packet16:
 	vzeroupper
 	ret
 .LBB_1:
-	vmovlhps	xmm10, xmm10, xmm11
-	vmovups	xmmword ptr [rsp + 256], xmm10
-	vmovups	xmmword ptr [rsp + 272], xmm9
-	vmovups	ymmword ptr [rsp + 288], ymm8
-	vmovlhps	xmm6, xmm6, xmm7
-	vmovups	xmmword ptr [rsp + 320], xmm6
-	vmovups	xmmword ptr [rsp + 336], xmm5
-	vmovups	ymmword ptr [rsp + 352], ymm4
-	vmovlhps	xmm2, xmm2, xmm3
-	vmovups	xmmword ptr [rsp + 384], xmm2
-	vmovups	xmmword ptr [rsp + 400], xmm1
-	vmovups	ymmword ptr [rsp + 416], ymm19
+	vmovups	ymmword ptr [rsp + 256], ymm5
+	vmovups	ymmword ptr [rsp + 288], ymm4
+	vmovups	ymmword ptr [rsp + 320], ymm3
+	vmovups	ymmword ptr [rsp + 352], ymm2
+	vmovups	ymmword ptr [rsp + 384], ymm1
+	vmovups	ymmword ptr [rsp + 416], ymm0
 	lea	rdi, [rsp + 64]
 	lea	rax, [rsp + 256]
 	mov	rdx, rsp
 	mov	rbx, rsi
 	mov	rsi, rax
 	vzeroupper
-	call	qword ptr [rip + _ZN7vecexpr8geometry18normalize_rescaled17h695fc6dfb87b9964E@GOTPCREL]
+	call	qword ptr [rip + _ZN7vecexpr4expr8geometry18normalize_rescaled17h95baa1849d1f5fc5E@GOTPCREL]
 	mov	rsi, rbx
 	jmp	.LBB_3
 # constants
 .LCPI_0:
-	.zero	4
-	.long	0
-	.long	1
-	.long	2
-	.long	15
+	.long	3
 	.long	4
 	.long	5
 	.long	6
 .LCPI_1:
-	.long	9
-	.long	1
-	.long	2
-	.long	3
-	.long	4
-	.long	5
-	.long	6
 	.long	7
-.LCPI_8:
-	.zero	8
-	.quad	4
-	.quad	0
-	.quad	1
+	.long	6
+	.long	5
+	.long	4
+	.long	3
+	.long	2
+	.long	1
+	.long	0
+	.long	11
+	.long	10
+	.long	9
+	.long	8
+	.long	19
+	.long	18
+	.long	17
+	.long	16
 .LCPI_2:
-	.long	3
-	.long	4
-	.long	5
-	.long	6
-.LCPI_3:
-	.long	7
-	.long	6
-	.long	5
-	.long	4
-	.long	3
-	.long	2
-	.long	1
-	.long	0
-	.long	11
-	.long	10
-	.long	9
-	.long	8
-	.long	17
-	.long	16
-	.zero	4
-	.zero	4
-.LCPI_4:
-	.long	0
-	.long	1
-	.long	2
-	.long	3
-	.long	4
-	.long	5
-	.long	6
-	.long	7
-	.long	8
-	.long	9
-	.long	10
-	.long	11
-	.long	12
-	.long	13
-	.long	17
-	.long	16
-.LCPI_5:
 	.long	0x00800000
-.LCPI_6:
+.LCPI_3:
 	.long	0x7f7fffff
-.LCPI_7:
+.LCPI_4:
 	.long	0x3f800000

@@ -3,103 +3,91 @@
 # Toolchain: rustc 1.95.0 (59807616e), LLVM 22.1.2
 # Command: RUSTFLAGS="-C target-cpu=x86-64-v4" cargo rustc --release --target HOST -p asm-dumps --lib --config profile.release.opt-level=3 --config profile.release.codegen-units=1 --config profile.release.lto=false --config profile.release.debug=false --config profile.release.incremental=false -- --emit asm -C llvm-args=-x86-asm-syntax=intel
 # Bound: 148 instructions
-# Measured: 134 instructions, 116 SIMD, widest 512 bits, 1 calls, 2 branches, 31 stack accesses
+# Measured: 116 instructions, 98 SIMD, widest 512 bits, 1 calls, 2 branches, 28 stack accesses
 reflect_normalize_packet16:
 	push	rbx
 	sub	rsp, 448
 	vmovups	ymm0, ymmword ptr [rdi]
 	vmovups	ymm1, ymmword ptr [rdi + 32]
 	vmovups	ymm2, ymmword ptr [rdi + 64]
-	vmovups	ymm4, ymmword ptr [rdi + 96]
-	vmovups	ymm6, ymmword ptr [rdi + 128]
+	vmovups	ymm6, ymmword ptr [rdi + 96]
+	vmovups	ymm7, ymmword ptr [rdi + 128]
 	vmovups	ymm8, ymmword ptr [rdi + 160]
 	vmovups	ymm3, ymmword ptr [rsi]
-	vmovups	ymm5, ymmword ptr [rsi + 32]
+	vmovups	ymm4, ymmword ptr [rsi + 32]
 	vmovups	ymm9, ymmword ptr [rsi + 64]
 	vmovups	ymm10, ymmword ptr [rsi + 96]
 	vmovups	ymm11, ymmword ptr [rsi + 128]
 	vmovups	ymm12, ymmword ptr [rsi + 160]
-	vmulps	ymm7, ymm5, ymm1
-	vmulps	ymm13, ymm10, ymm4
-	vaddps	ymm7, ymm13, ymm7
+	vmulps	ymm5, ymm4, ymm1
+	vmulps	ymm13, ymm10, ymm6
+	vaddps	ymm5, ymm13, ymm5
 	vmulps	ymm13, ymm12, ymm8
-	vaddps	ymm7, ymm13, ymm7
-	vaddps	ymm13, ymm7, ymm7
-	vmulps	ymm7, ymm3, ymm0
+	vaddps	ymm5, ymm13, ymm5
+	vaddps	ymm13, ymm5, ymm5
+	vmulps	ymm5, ymm3, ymm0
 	vmulps	ymm14, ymm9, ymm2
-	vaddps	ymm7, ymm14, ymm7
-	vmulps	ymm14, ymm11, ymm6
-	vaddps	ymm7, ymm14, ymm7
-	vaddps	ymm14, ymm7, ymm7
+	vaddps	ymm5, ymm14, ymm5
+	vmulps	ymm14, ymm11, ymm7
+	vaddps	ymm5, ymm14, ymm5
+	vaddps	ymm14, ymm5, ymm5
 	vmulps	ymm3, ymm14, ymm3
-	vmulps	ymm5, ymm13, ymm5
-	vsubps	ymm7, ymm0, ymm3
-	vsubps	ymm5, ymm1, ymm5
+	vmulps	ymm4, ymm13, ymm4
+	vsubps	ymm5, ymm0, ymm3
+	vsubps	ymm4, ymm1, ymm4
 	vmulps	ymm0, ymm9, ymm14
 	vmulps	ymm1, ymm10, ymm13
 	vsubps	ymm3, ymm2, ymm0
-	vsubps	ymm2, ymm4, ymm1
+	vsubps	ymm2, ymm6, ymm1
 	vmulps	ymm0, ymm11, ymm14
-	vmulps	ymm4, ymm12, ymm13
-	vsubps	ymm1, ymm6, ymm0
-	vsubps	ymm0, ymm8, ymm4
-	vshufpd	xmm10, xmm7, xmm7, 1
-	vextractf128	xmm9, ymm7, 1
-	vshufpd	xmm8, xmm3, xmm3, 1
-	vextractf128	xmm6, ymm3, 1
-	vshufpd	xmm4, xmm1, xmm1, 1
-	vmulps	ymm11, ymm5, ymm5
-	vmulps	ymm12, ymm7, ymm7
-	vmulps	ymm13, ymm3, ymm3
-	vaddps	ymm12, ymm12, ymm13
-	vmulps	ymm13, ymm2, ymm2
-	vaddps	ymm11, ymm11, ymm13
-	vmulps	ymm14, ymm1, ymm1
-	vmulps	ymm13, ymm0, ymm0
-	vaddps	ymm13, ymm11, ymm13
-	vaddps	ymm12, ymm12, ymm14
-	vmovlps	qword ptr [rsp], xmm12
-	vextractps	dword ptr [rsp + 8], xmm12, 2
-	valignd	ymm11, ymm13, ymm12, 3
-	vmovdqu	ymmword ptr [rsp + 12], ymm11
-	vextracti128	xmm11, ymm13, 1
-	vmovaps	xmm14, xmmword ptr [rip + .LCPI_0]
-	vpermps	ymm14, ymm14, ymm13
-	vmovups	xmmword ptr [rsp + 44], xmm14
-	vextractps	dword ptr [rsp + 60], xmm11, 3
-	vextractf128	xmm11, ymm1, 1
-	vextractf128	xmm14, ymm12, 1
-	vinsertf32x4	zmm15, zmm13, xmm14, 2
-	vmovaps	zmm16, zmmword ptr [rip + .LCPI_1]
-	vpermi2ps	zmm16, zmm15, zmm12
-	vcmpgeps	k0, zmm16, dword ptr [rip + .LCPI_2]{1to16}
-	vcmpleps	k1, zmm16, dword ptr [rip + .LCPI_3]{1to16}
+	vmulps	ymm6, ymm12, ymm13
+	vsubps	ymm1, ymm7, ymm0
+	vsubps	ymm0, ymm8, ymm6
+	vmulps	ymm6, ymm4, ymm4
+	vmulps	ymm7, ymm5, ymm5
+	vmulps	ymm8, ymm3, ymm3
+	vaddps	ymm8, ymm8, ymm7
+	vmulps	ymm7, ymm2, ymm2
+	vaddps	ymm6, ymm6, ymm7
+	vmulps	ymm9, ymm1, ymm1
+	vmulps	ymm7, ymm0, ymm0
+	vaddps	ymm7, ymm6, ymm7
+	vaddps	ymm6, ymm8, ymm9
+	vmovlps	qword ptr [rsp], xmm6
+	vextractps	dword ptr [rsp + 8], xmm6, 2
+	valignd	ymm8, ymm7, ymm6, 3
+	vmovdqu	ymmword ptr [rsp + 12], ymm8
+	vextracti128	xmm8, ymm7, 1
+	vmovaps	xmm9, xmmword ptr [rip + .LCPI_0]
+	vpermps	ymm9, ymm9, ymm7
+	vmovups	xmmword ptr [rsp + 44], xmm9
+	vextractps	dword ptr [rsp + 60], xmm8, 3
+	vextractf128	xmm8, ymm6, 1
+	vinsertf32x4	zmm9, zmm7, xmm8, 2
+	vmovaps	zmm10, zmmword ptr [rip + .LCPI_1]
+	vpermi2ps	zmm10, zmm9, zmm6
+	vcmpgeps	k0, zmm10, dword ptr [rip + .LCPI_2]{1to16}
+	vcmpleps	k1, zmm10, dword ptr [rip + .LCPI_3]{1to16}
 	kunpckwd	k0, k1, k0
 	kortestd	k0, k0
 	jae	.LBB_1
-	vsqrtps	ymm13, ymm13
-	vbroadcastss	ymm15, dword ptr [rip + .LCPI_4]
-	vdivps	ymm13, ymm15, ymm13
-	vperm2f128	ymm12, ymm14, ymm12, 2
-	vblendps	ymm12, ymm12, ymmword ptr [rsp], 3
-	vsqrtps	ymm12, ymm12
-	vdivps	ymm12, ymm15, ymm12
-	vunpcklpd	xmm7, xmm7, xmm10
-	vinsertf128	ymm7, ymm7, xmm9, 1
-	vmulps	ymm7, ymm12, ymm7
-	vmulps	ymm5, ymm13, ymm5
-	vmovups	ymmword ptr [rsp + 64], ymm7
-	vmovups	ymmword ptr [rsp + 96], ymm5
-	vunpcklpd	xmm3, xmm3, xmm8
-	vinsertf128	ymm3, ymm3, xmm6, 1
-	vmulps	ymm3, ymm12, ymm3
-	vmulps	ymm2, ymm13, ymm2
+	vsqrtps	ymm7, ymm7
+	vbroadcastss	ymm9, dword ptr [rip + .LCPI_4]
+	vdivps	ymm7, ymm9, ymm7
+	vperm2f128	ymm6, ymm8, ymm6, 2
+	vblendps	ymm6, ymm6, ymmword ptr [rsp], 3
+	vsqrtps	ymm6, ymm6
+	vdivps	ymm6, ymm9, ymm6
+	vmulps	ymm5, ymm5, ymm6
+	vmulps	ymm4, ymm4, ymm7
+	vmovups	ymmword ptr [rsp + 64], ymm5
+	vmovups	ymmword ptr [rsp + 96], ymm4
+	vmulps	ymm3, ymm3, ymm6
+	vmulps	ymm2, ymm2, ymm7
 	vmovups	ymmword ptr [rsp + 128], ymm3
 	vmovups	ymmword ptr [rsp + 160], ymm2
-	vunpcklpd	xmm1, xmm1, xmm4
-	vinsertf128	ymm1, ymm1, xmm11, 1
-	vmulps	ymm1, ymm12, ymm1
-	vmulps	ymm0, ymm13, ymm0
+	vmulps	ymm1, ymm1, ymm6
+	vmulps	ymm0, ymm0, ymm7
 	vmovups	ymmword ptr [rsp + 192], ymm1
 	vmovups	ymmword ptr [rsp + 224], ymm0
 .LBB_3:
@@ -120,17 +108,11 @@ reflect_normalize_packet16:
 	vzeroupper
 	ret
 .LBB_1:
-	vunpcklpd	xmm7, xmm7, xmm10
-	vmovupd	xmmword ptr [rsp + 256], xmm7
-	vmovupd	xmmword ptr [rsp + 272], xmm9
-	vmovups	ymmword ptr [rsp + 288], ymm5
-	vunpcklpd	xmm3, xmm3, xmm8
-	vmovupd	xmmword ptr [rsp + 320], xmm3
-	vmovupd	xmmword ptr [rsp + 336], xmm6
+	vmovups	ymmword ptr [rsp + 256], ymm5
+	vmovups	ymmword ptr [rsp + 288], ymm4
+	vmovups	ymmword ptr [rsp + 320], ymm3
 	vmovups	ymmword ptr [rsp + 352], ymm2
-	vunpcklpd	xmm1, xmm1, xmm4
-	vmovupd	xmmword ptr [rsp + 384], xmm1
-	vmovupd	xmmword ptr [rsp + 400], xmm11
+	vmovups	ymmword ptr [rsp + 384], ymm1
 	vmovups	ymmword ptr [rsp + 416], ymm0
 	lea	rdi, [rsp + 64]
 	lea	rsi, [rsp + 256]
@@ -138,7 +120,7 @@ reflect_normalize_packet16:
 	mov	rbx, rdx
 	mov	rdx, rax
 	vzeroupper
-	call	qword ptr [rip + _ZN7vecexpr8geometry18normalize_rescaled17h695fc6dfb87b9964E@GOTPCREL]
+	call	qword ptr [rip + _ZN7vecexpr4expr8geometry18normalize_rescaled17h95baa1849d1f5fc5E@GOTPCREL]
 	mov	rdx, rbx
 	jmp	.LBB_3
 # constants

@@ -3,185 +3,171 @@
 # Toolchain: rustc 1.95.0 (59807616e), LLVM 22.1.2
 # Command: RUSTFLAGS="-C target-cpu=x86-64" cargo rustc --release --target HOST -p asm-dumps --lib --config profile.release.opt-level=3 --config profile.release.codegen-units=1 --config profile.release.lto=false --config profile.release.debug=false --config profile.release.incremental=false -- --emit asm -C llvm-args=-x86-asm-syntax=intel
 # Bound: 194 instructions
-# Measured: 176 instructions, 153 SIMD, widest 128 bits, 2 calls, 2 branches, 60 stack accesses
+# Measured: 162 instructions, 145 SIMD, widest 128 bits, 2 calls, 2 branches, 54 stack accesses
 normalize_packet16:
 	push	rbx
-	sub	rsp, 576
+	sub	rsp, 544
 	mov	rbx, rsi
-	movsd	xmm9, qword ptr [rdi]
-	movsd	xmm10, qword ptr [rdi + 8]
-	movups	xmm8, xmmword ptr [rdi + 16]
-	movups	xmm4, xmmword ptr [rdi + 32]
-	movups	xmm0, xmmword ptr [rdi + 48]
-	movsd	xmm3, qword ptr [rdi + 64]
-	movsd	xmm2, qword ptr [rdi + 72]
-	movups	xmm13, xmmword ptr [rdi + 80]
-	movups	xmm14, xmmword ptr [rdi + 96]
-	movups	xmm1, xmmword ptr [rdi + 112]
-	movaps	xmmword ptr [rsp + 48], xmm0
-	mulps	xmm0, xmm0
-	movaps	xmmword ptr [rsp + 32], xmm4
-	mulps	xmm4, xmm4
-	movaps	xmm7, xmm8
-	mulps	xmm7, xmm8
-	movaps	xmmword ptr [rsp + 16], xmm10
-	mulps	xmm10, xmm10
-	movaps	xmm11, xmm9
-	mulps	xmm11, xmm9
-	movaps	xmm12, xmm3
-	mulps	xmm12, xmm3
-	addps	xmm12, xmm11
-	movaps	xmmword ptr [rsp + 64], xmm2
-	movaps	xmm11, xmm2
-	mulps	xmm11, xmm2
-	addps	xmm11, xmm10
-	movaps	xmmword ptr [rsp + 80], xmm13
-	mulps	xmm13, xmm13
-	addps	xmm13, xmm7
-	movaps	xmmword ptr [rsp + 96], xmm14
-	mulps	xmm14, xmm14
-	addps	xmm14, xmm4
-	movaps	xmmword ptr [rsp + 112], xmm1
-	mulps	xmm1, xmm1
-	addps	xmm1, xmm0
-	movsd	xmm7, qword ptr [rdi + 128]
+	movups	xmm10, xmmword ptr [rdi]
+	movups	xmm9, xmmword ptr [rdi + 16]
+	movups	xmm8, xmmword ptr [rdi + 32]
+	movups	xmm7, xmmword ptr [rdi + 48]
+	movups	xmm6, xmmword ptr [rdi + 64]
+	movups	xmm15, xmmword ptr [rdi + 80]
+	movups	xmm4, xmmword ptr [rdi + 96]
+	movups	xmm3, xmmword ptr [rdi + 112]
+	movups	xmm5, xmmword ptr [rdi + 128]
+	movups	xmm1, xmmword ptr [rdi + 144]
+	movups	xmm2, xmmword ptr [rdi + 160]
 	movaps	xmm0, xmm7
 	mulps	xmm0, xmm7
-	addps	xmm0, xmm12
-	movsd	xmm15, qword ptr [rdi + 136]
+	movaps	xmm11, xmm8
+	mulps	xmm11, xmm8
+	movaps	xmm12, xmm9
+	mulps	xmm12, xmm9
+	movaps	xmm13, xmm10
+	mulps	xmm13, xmm10
+	movaps	xmm14, xmm6
+	mulps	xmm14, xmm6
+	addps	xmm14, xmm13
 	movaps	xmmword ptr [rsp], xmm15
 	mulps	xmm15, xmm15
-	addps	xmm15, xmm11
-	movups	xmm6, xmmword ptr [rdi + 144]
-	movaps	xmm4, xmm6
-	mulps	xmm4, xmm6
-	addps	xmm4, xmm13
-	movups	xmm12, xmmword ptr [rdi + 160]
-	movaps	xmm11, xmm12
-	mulps	xmm11, xmm12
-	addps	xmm11, xmm14
-	movups	xmm14, xmmword ptr [rdi + 176]
-	movaps	xmm13, xmm14
-	mulps	xmm13, xmm14
-	addps	xmm13, xmm1
-	movlps	qword ptr [rsp + 128], xmm0
-	movaps	xmm1, xmm15
-	movlhps	xmm1, xmm4
-	movups	xmmword ptr [rsp + 136], xmm1
-	movaps	xmm1, xmm4
-	shufps	xmm1, xmm11, 78
-	movups	xmmword ptr [rsp + 152], xmm1
-	movaps	xmm1, xmm11
-	shufps	xmm1, xmm13, 78
-	movups	xmmword ptr [rsp + 168], xmm1
-	movaps	xmm1, xmm15
-	shufps	xmm1, xmm0, 17
-	movaps	xmm0, xmmword ptr [rip + .LCPI_0]
-	movaps	xmm2, xmm0
-	cmpleps	xmm2, xmm1
-	movaps	xmm5, xmmword ptr [rip + .LCPI_1]
-	cmpleps	xmm1, xmm5
-	andps	xmm1, xmm2
-	movaps	xmm2, xmm0
-	cmpleps	xmm2, xmm4
-	movaps	xmm10, xmm4
-	cmpleps	xmm10, xmm5
-	andps	xmm10, xmm2
-	packssdw	xmm10, xmm1
-	movaps	xmm1, xmm0
-	cmpleps	xmm1, xmm13
-	movaps	xmm2, xmm13
-	cmpleps	xmm2, xmm5
-	andps	xmm2, xmm1
-	movaps	xmm1, xmm11
-	cmpleps	xmm1, xmm5
-	cmpleps	xmm0, xmm11
-	andps	xmm1, xmm0
-	packssdw	xmm2, xmm1
-	packsswb	xmm2, xmm10
-	pmovmskb	eax, xmm2
-	movhps	qword ptr [rsp + 184], xmm13
+	addps	xmm15, xmm12
+	movaps	xmmword ptr [rsp + 16], xmm4
+	mulps	xmm4, xmm4
+	addps	xmm4, xmm11
+	movaps	xmmword ptr [rsp + 32], xmm3
+	mulps	xmm3, xmm3
+	addps	xmm3, xmm0
+	movaps	xmmword ptr [rsp + 48], xmm5
+	mulps	xmm5, xmm5
+	addps	xmm5, xmm14
+	movaps	xmmword ptr [rsp + 64], xmm1
+	mulps	xmm1, xmm1
+	addps	xmm1, xmm15
+	movaps	xmmword ptr [rsp + 80], xmm2
+	movaps	xmm14, xmm2
+	mulps	xmm14, xmm2
+	addps	xmm14, xmm4
+	movups	xmm11, xmmword ptr [rdi + 176]
+	movaps	xmm15, xmm11
+	mulps	xmm15, xmm11
+	addps	xmm15, xmm3
+	movlps	qword ptr [rsp + 96], xmm5
+	movaps	xmm0, xmm5
+	shufps	xmm0, xmm1, 78
+	movups	xmmword ptr [rsp + 104], xmm0
+	movaps	xmm0, xmm1
+	shufps	xmm0, xmm14, 78
+	movups	xmmword ptr [rsp + 120], xmm0
+	movaps	xmm0, xmm14
+	shufps	xmm0, xmm15, 78
+	movups	xmmword ptr [rsp + 136], xmm0
+	movaps	xmm0, xmm5
+	shufps	xmm0, xmm5, 27
+	movaps	xmm3, xmmword ptr [rip + .LCPI_0]
+	movaps	xmm4, xmm3
+	cmpleps	xmm4, xmm0
+	movaps	xmm2, xmmword ptr [rip + .LCPI_1]
+	cmpleps	xmm0, xmm2
+	andps	xmm0, xmm4
+	movaps	xmm4, xmm3
+	cmpleps	xmm4, xmm1
+	movaps	xmm13, xmm1
+	cmpleps	xmm13, xmm2
+	andps	xmm13, xmm4
+	packssdw	xmm13, xmm0
+	movaps	xmm0, xmm3
+	cmpleps	xmm0, xmm15
+	movaps	xmm4, xmm15
+	cmpleps	xmm4, xmm2
+	andps	xmm4, xmm0
+	movaps	xmm0, xmm14
+	cmpleps	xmm0, xmm2
+	cmpleps	xmm3, xmm14
+	andps	xmm0, xmm3
+	packssdw	xmm4, xmm0
+	packsswb	xmm4, xmm13
+	pmovmskb	eax, xmm4
+	movhps	qword ptr [rsp + 152], xmm15
 	cmp	eax, 65535
 	jne	.LBB_1
-	sqrtps	xmm1, xmm13
-	movaps	xmm13, xmmword ptr [rip + .LCPI_2]
-	movaps	xmm0, xmm13
-	divps	xmm0, xmm1
-	sqrtps	xmm1, xmm11
-	movaps	xmm11, xmm13
-	divps	xmm11, xmm1
-	sqrtps	xmm1, xmm4
-	movaps	xmm10, xmm13
-	divps	xmm10, xmm1
-	movaps	xmm1, xmmword ptr [rsp + 128]
-	movlhps	xmm1, xmm15
+	sqrtps	xmm2, xmm15
+	movaps	xmm15, xmmword ptr [rip + .LCPI_2]
+	movaps	xmm0, xmm15
+	divps	xmm0, xmm2
+	sqrtps	xmm2, xmm14
+	movaps	xmm14, xmm15
+	divps	xmm14, xmm2
 	sqrtps	xmm1, xmm1
+	movaps	xmm13, xmm15
 	divps	xmm13, xmm1
-	unpcklpd	xmm9, xmmword ptr [rsp + 16]
-	mulps	xmm9, xmm13
-	movaps	xmmword ptr [rsp + 192], xmm9
-	mulps	xmm8, xmm10
-	movaps	xmmword ptr [rsp + 208], xmm8
-	movaps	xmm1, xmmword ptr [rsp + 32]
-	mulps	xmm1, xmm11
-	movaps	xmmword ptr [rsp + 224], xmm1
-	movaps	xmm1, xmmword ptr [rsp + 48]
-	mulps	xmm1, xmm0
-	movaps	xmmword ptr [rsp + 240], xmm1
-	unpcklpd	xmm3, xmmword ptr [rsp + 64]
-	mulps	xmm3, xmm13
-	movaps	xmmword ptr [rsp + 256], xmm3
-	movaps	xmm1, xmmword ptr [rsp + 80]
-	mulps	xmm1, xmm10
-	movaps	xmmword ptr [rsp + 272], xmm1
+	movhlps	xmm5, xmm5
 	movaps	xmm1, xmmword ptr [rsp + 96]
-	mulps	xmm1, xmm11
-	movaps	xmmword ptr [rsp + 288], xmm1
-	movaps	xmm1, xmmword ptr [rsp + 112]
+	movlhps	xmm1, xmm5
+	sqrtps	xmm1, xmm1
+	divps	xmm15, xmm1
+	mulps	xmm10, xmm15
+	movaps	xmmword ptr [rsp + 160], xmm10
+	mulps	xmm9, xmm13
+	movaps	xmmword ptr [rsp + 176], xmm9
+	mulps	xmm8, xmm14
+	movaps	xmmword ptr [rsp + 192], xmm8
+	mulps	xmm7, xmm0
+	movaps	xmmword ptr [rsp + 208], xmm7
+	mulps	xmm6, xmm15
+	movaps	xmmword ptr [rsp + 224], xmm6
+	movaps	xmm1, xmmword ptr [rsp]
+	mulps	xmm1, xmm13
+	movaps	xmmword ptr [rsp + 240], xmm1
+	movaps	xmm1, xmmword ptr [rsp + 16]
+	mulps	xmm1, xmm14
+	movaps	xmmword ptr [rsp + 256], xmm1
+	movaps	xmm1, xmmword ptr [rsp + 32]
 	mulps	xmm1, xmm0
-	movaps	xmmword ptr [rsp + 304], xmm1
-	unpcklpd	xmm7, xmmword ptr [rsp]
-	mulps	xmm7, xmm13
-	mulps	xmm6, xmm10
-	mulps	xmm12, xmm11
-	mulps	xmm14, xmm0
-	movaps	xmmword ptr [rsp + 320], xmm7
-	movaps	xmmword ptr [rsp + 336], xmm6
-	movaps	xmmword ptr [rsp + 352], xmm12
-	movaps	xmmword ptr [rsp + 368], xmm14
+	movaps	xmmword ptr [rsp + 272], xmm1
+	movaps	xmm3, xmmword ptr [rsp + 48]
+	mulps	xmm3, xmm15
+	movaps	xmm2, xmmword ptr [rsp + 64]
+	mulps	xmm2, xmm13
+	movaps	xmm1, xmmword ptr [rsp + 80]
+	mulps	xmm1, xmm14
+	mulps	xmm11, xmm0
+	movaps	xmmword ptr [rsp + 288], xmm3
+	movaps	xmmword ptr [rsp + 304], xmm2
+	movaps	xmmword ptr [rsp + 320], xmm1
+	movaps	xmmword ptr [rsp + 336], xmm11
 .LBB_3:
-	lea	rsi, [rsp + 192]
+	lea	rsi, [rsp + 160]
 	mov	edx, 192
 	mov	rdi, rbx
 	call	qword ptr [rip + memcpy@GOTPCREL]
-	add	rsp, 576
+	add	rsp, 544
 	pop	rbx
 	ret
 .LBB_1:
-	unpcklpd	xmm9, xmmword ptr [rsp + 16]
-	movups	xmmword ptr [rsp + 384], xmm9
-	movups	xmmword ptr [rsp + 400], xmm8
+	movaps	xmmword ptr [rsp + 352], xmm10
+	movaps	xmmword ptr [rsp + 368], xmm9
+	movaps	xmmword ptr [rsp + 384], xmm8
+	movaps	xmmword ptr [rsp + 400], xmm7
+	movaps	xmmword ptr [rsp + 416], xmm6
+	movaps	xmm0, xmmword ptr [rsp]
+	movaps	xmmword ptr [rsp + 432], xmm0
+	movaps	xmm0, xmmword ptr [rsp + 16]
+	movaps	xmmword ptr [rsp + 448], xmm0
 	movaps	xmm0, xmmword ptr [rsp + 32]
-	movups	xmmword ptr [rsp + 416], xmm0
+	movaps	xmmword ptr [rsp + 464], xmm0
 	movaps	xmm0, xmmword ptr [rsp + 48]
-	movups	xmmword ptr [rsp + 432], xmm0
-	unpcklpd	xmm3, xmmword ptr [rsp + 64]
-	movups	xmmword ptr [rsp + 448], xmm3
+	movaps	xmmword ptr [rsp + 480], xmm0
+	movaps	xmm0, xmmword ptr [rsp + 64]
+	movaps	xmmword ptr [rsp + 496], xmm0
 	movaps	xmm0, xmmword ptr [rsp + 80]
-	movups	xmmword ptr [rsp + 464], xmm0
-	movaps	xmm0, xmmword ptr [rsp + 96]
-	movups	xmmword ptr [rsp + 480], xmm0
-	movaps	xmm0, xmmword ptr [rsp + 112]
-	movups	xmmword ptr [rsp + 496], xmm0
-	unpcklpd	xmm7, xmmword ptr [rsp]
-	movups	xmmword ptr [rsp + 512], xmm7
-	movups	xmmword ptr [rsp + 528], xmm6
-	movups	xmmword ptr [rsp + 544], xmm12
-	movups	xmmword ptr [rsp + 560], xmm14
-	lea	rdi, [rsp + 192]
-	lea	rsi, [rsp + 384]
-	lea	rdx, [rsp + 128]
-	call	qword ptr [rip + _ZN7vecexpr8geometry18normalize_rescaled17h695fc6dfb87b9964E@GOTPCREL]
+	movaps	xmmword ptr [rsp + 512], xmm0
+	movaps	xmmword ptr [rsp + 528], xmm11
+	lea	rdi, [rsp + 160]
+	lea	rsi, [rsp + 352]
+	lea	rdx, [rsp + 96]
+	call	qword ptr [rip + _ZN7vecexpr4expr8geometry18normalize_rescaled17h95baa1849d1f5fc5E@GOTPCREL]
 	jmp	.LBB_3
 # constants
 .LCPI_0:

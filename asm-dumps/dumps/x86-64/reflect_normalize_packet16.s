@@ -3,42 +3,43 @@
 # Toolchain: rustc 1.95.0 (59807616e), LLVM 22.1.2
 # Command: RUSTFLAGS="-C target-cpu=x86-64" cargo rustc --release --target HOST -p asm-dumps --lib --config profile.release.opt-level=3 --config profile.release.codegen-units=1 --config profile.release.lto=false --config profile.release.debug=false --config profile.release.incremental=false -- --emit asm -C llvm-args=-x86-asm-syntax=intel
 # Bound: 297 instructions
-# Measured: 270 instructions, 253 SIMD, widest 128 bits, 2 calls, 2 branches, 85 stack accesses
+# Measured: 258 instructions, 241 SIMD, widest 128 bits, 2 calls, 2 branches, 80 stack accesses
 reflect_normalize_packet16:
 	push	rbx
 	sub	rsp, 672
 	mov	rbx, rdx
-	movups	xmm4, xmmword ptr [rdi + 16]
+	movups	xmm0, xmmword ptr [rdi + 16]
+	movaps	xmmword ptr [rsp], xmm0
 	movups	xmm11, xmmword ptr [rdi + 32]
-	movaps	xmmword ptr [rsp + 80], xmm11
+	movaps	xmmword ptr [rsp + 64], xmm11
 	movups	xmm3, xmmword ptr [rdi + 48]
-	movaps	xmmword ptr [rsp + 208], xmm3
+	movaps	xmmword ptr [rsp + 176], xmm3
 	movups	xmm6, xmmword ptr [rdi + 96]
-	movaps	xmmword ptr [rsp + 160], xmm6
+	movaps	xmmword ptr [rsp + 128], xmm6
 	movups	xmm5, xmmword ptr [rdi + 112]
-	movaps	xmmword ptr [rsp + 48], xmm5
+	movaps	xmmword ptr [rsp + 32], xmm5
 	movups	xmm8, xmmword ptr [rdi + 160]
-	movaps	xmmword ptr [rsp + 192], xmm8
-	movups	xmm0, xmmword ptr [rdi + 176]
-	movaps	xmmword ptr [rsp + 144], xmm0
-	movups	xmm7, xmmword ptr [rsi + 32]
+	movaps	xmmword ptr [rsp + 160], xmm8
+	movups	xmm7, xmmword ptr [rdi + 176]
+	movaps	xmmword ptr [rsp + 112], xmm7
+	movups	xmm4, xmmword ptr [rsi + 32]
 	movups	xmm2, xmmword ptr [rsi + 48]
-	movaps	xmmword ptr [rsp + 128], xmm2
+	movaps	xmmword ptr [rsp + 96], xmm2
 	movups	xmm10, xmmword ptr [rsi + 96]
-	movaps	xmmword ptr [rsp], xmm10
+	movaps	xmmword ptr [rsp + 192], xmm10
 	movups	xmm9, xmmword ptr [rsi + 112]
-	movaps	xmmword ptr [rsp + 32], xmm9
+	movaps	xmmword ptr [rsp + 16], xmm9
 	movups	xmm14, xmmword ptr [rsi + 160]
-	movaps	xmmword ptr [rsp + 16], xmm14
+	movaps	xmmword ptr [rsp + 208], xmm14
 	movups	xmm12, xmmword ptr [rsi + 176]
-	movaps	xmmword ptr [rsp + 64], xmm12
+	movaps	xmmword ptr [rsp + 48], xmm12
 	mulps	xmm2, xmm3
 	movaps	xmm3, xmm9
 	mulps	xmm3, xmm5
 	addps	xmm3, xmm2
-	mulps	xmm12, xmm0
+	mulps	xmm12, xmm7
 	addps	xmm12, xmm3
-	movaps	xmm2, xmm7
+	movaps	xmm2, xmm4
 	mulps	xmm2, xmm11
 	movaps	xmm3, xmm10
 	mulps	xmm3, xmm6
@@ -47,110 +48,111 @@ reflect_normalize_packet16:
 	addps	xmm14, xmm3
 	movups	xmm6, xmmword ptr [rsi + 16]
 	movaps	xmm2, xmm6
-	mulps	xmm2, xmm4
-	movups	xmm15, xmmword ptr [rdi + 80]
+	mulps	xmm2, xmm0
+	movups	xmm13, xmmword ptr [rdi + 80]
 	movups	xmm1, xmmword ptr [rsi + 80]
 	movaps	xmm5, xmm1
-	mulps	xmm5, xmm15
+	mulps	xmm5, xmm13
 	addps	xmm5, xmm2
-	movups	xmm3, xmmword ptr [rdi + 144]
-	movaps	xmmword ptr [rsp + 96], xmm3
+	movups	xmm15, xmmword ptr [rdi + 144]
 	movups	xmm2, xmmword ptr [rsi + 144]
-	movaps	xmmword ptr [rsp + 176], xmm2
-	mulps	xmm2, xmm3
+	movaps	xmmword ptr [rsp + 144], xmm2
+	mulps	xmm2, xmm15
 	addps	xmm2, xmm5
-	movups	xmm11, xmmword ptr [rdi]
+	movups	xmm7, xmmword ptr [rdi]
 	movups	xmm9, xmmword ptr [rsi]
 	movaps	xmm5, xmm9
-	mulps	xmm5, xmm11
+	mulps	xmm5, xmm7
 	movups	xmm3, xmmword ptr [rdi + 64]
 	movups	xmm10, xmmword ptr [rsi + 64]
 	movaps	xmm8, xmm10
 	mulps	xmm8, xmm3
 	addps	xmm8, xmm5
-	movups	xmm13, xmmword ptr [rdi + 128]
+	movups	xmm11, xmmword ptr [rdi + 128]
 	movups	xmm5, xmmword ptr [rsi + 128]
-	movaps	xmmword ptr [rsp + 112], xmm5
-	mulps	xmm5, xmm13
+	movaps	xmmword ptr [rsp + 80], xmm5
+	mulps	xmm5, xmm11
 	addps	xmm5, xmm8
 	addps	xmm5, xmm5
 	mulps	xmm9, xmm5
-	subps	xmm11, xmm9
-	movaps	xmm8, xmmword ptr [rsp + 144]
+	subps	xmm7, xmm9
+	movaps	xmm8, xmmword ptr [rsp + 112]
 	addps	xmm2, xmm2
 	mulps	xmm6, xmm2
-	subps	xmm4, xmm6
+	movaps	xmm9, xmmword ptr [rsp]
+	subps	xmm9, xmm6
+	movaps	xmmword ptr [rsp], xmm9
 	addps	xmm14, xmm14
-	mulps	xmm7, xmm14
-	movaps	xmm6, xmmword ptr [rsp + 80]
-	subps	xmm6, xmm7
+	mulps	xmm4, xmm14
+	movaps	xmm6, xmmword ptr [rsp + 64]
+	subps	xmm6, xmm4
 	addps	xmm12, xmm12
-	movaps	xmm0, xmmword ptr [rsp + 128]
+	movaps	xmm0, xmmword ptr [rsp + 96]
 	mulps	xmm0, xmm12
-	movaps	xmm9, xmmword ptr [rsp + 208]
+	movaps	xmm9, xmmword ptr [rsp + 176]
 	subps	xmm9, xmm0
-	movaps	xmm7, xmmword ptr [rsp + 160]
+	movaps	xmm4, xmmword ptr [rsp + 128]
 	mulps	xmm10, xmm5
 	subps	xmm3, xmm10
-	movaps	xmm10, xmmword ptr [rsp + 192]
+	movaps	xmm10, xmmword ptr [rsp + 160]
 	mulps	xmm1, xmm2
-	subps	xmm15, xmm1
-	movaps	xmm0, xmmword ptr [rsp]
+	subps	xmm13, xmm1
+	movaps	xmm0, xmmword ptr [rsp + 192]
 	mulps	xmm0, xmm14
-	subps	xmm7, xmm0
+	subps	xmm4, xmm0
+	movaps	xmm0, xmmword ptr [rsp + 16]
+	mulps	xmm0, xmm12
 	movaps	xmm1, xmmword ptr [rsp + 32]
-	mulps	xmm1, xmm12
-	movaps	xmm0, xmmword ptr [rsp + 48]
-	subps	xmm0, xmm1
-	movaps	xmm1, xmm6
-	mulps	xmm5, xmmword ptr [rsp + 112]
-	mulps	xmm2, xmmword ptr [rsp + 176]
-	mulps	xmm14, xmmword ptr [rsp + 16]
-	mulps	xmm12, xmmword ptr [rsp + 64]
-	subps	xmm13, xmm5
-	movaps	xmm6, xmmword ptr [rsp + 96]
-	subps	xmm6, xmm2
+	subps	xmm1, xmm0
+	movaps	xmm0, xmm6
+	mulps	xmm5, xmmword ptr [rsp + 80]
+	mulps	xmm2, xmmword ptr [rsp + 144]
+	mulps	xmm14, xmmword ptr [rsp + 208]
+	mulps	xmm12, xmmword ptr [rsp + 48]
+	subps	xmm11, xmm5
+	subps	xmm15, xmm2
 	subps	xmm10, xmm14
 	movaps	xmm14, xmm9
 	subps	xmm8, xmm12
-	movaps	xmm12, xmm0
-	movaps	xmmword ptr [rsp + 80], xmm1
-	movaps	xmm0, xmm1
-	mulps	xmm0, xmm1
-	movaps	xmmword ptr [rsp + 16], xmm4
-	mulps	xmm4, xmm4
-	movaps	xmmword ptr [rsp], xmm11
-	mulps	xmm11, xmm11
-	movaps	xmmword ptr [rsp + 48], xmm3
-	mulps	xmm3, xmm3
-	addps	xmm3, xmm11
-	movaps	xmmword ptr [rsp + 64], xmm15
-	mulps	xmm15, xmm15
-	addps	xmm15, xmm4
-	movaps	xmm9, xmm7
+	movaps	xmm12, xmm1
+	movaps	xmmword ptr [rsp + 64], xmm6
+	mulps	xmm0, xmm6
+	movaps	xmm1, xmmword ptr [rsp]
+	movaps	xmm6, xmm15
+	mulps	xmm1, xmm1
+	movaps	xmm15, xmm7
 	mulps	xmm7, xmm7
-	addps	xmm7, xmm0
+	movaps	xmmword ptr [rsp + 16], xmm3
+	mulps	xmm3, xmm3
+	addps	xmm3, xmm7
+	movaps	xmmword ptr [rsp + 48], xmm13
+	mulps	xmm13, xmm13
+	addps	xmm13, xmm1
+	movaps	xmm9, xmm4
+	mulps	xmm4, xmm4
+	addps	xmm4, xmm0
 	movaps	xmm0, xmm14
 	mulps	xmm0, xmm14
 	movaps	xmm5, xmm12
 	mulps	xmm5, xmm12
 	addps	xmm5, xmm0
-	movaps	xmmword ptr [rsp + 32], xmm13
-	mulps	xmm13, xmm13
-	addps	xmm13, xmm3
+	movaps	xmmword ptr [rsp + 32], xmm11
+	movaps	xmm0, xmm11
+	mulps	xmm0, xmm11
+	addps	xmm0, xmm3
+	movaps	xmm11, xmm6
 	movaps	xmm1, xmm6
-	movaps	xmmword ptr [rsp + 96], xmm6
 	mulps	xmm1, xmm6
-	addps	xmm1, xmm15
+	addps	xmm1, xmm13
 	movaps	xmm2, xmm10
 	mulps	xmm2, xmm10
-	addps	xmm2, xmm7
-	movaps	xmm15, xmm8
+	addps	xmm2, xmm4
+	movaps	xmm13, xmm8
 	movaps	xmm3, xmm8
 	mulps	xmm3, xmm8
 	addps	xmm3, xmm5
-	movlps	qword ptr [rsp + 224], xmm13
-	movaps	xmm4, xmm13
+	movlps	qword ptr [rsp + 224], xmm0
+	movaps	xmm4, xmm0
 	shufps	xmm4, xmm1, 78
 	movups	xmmword ptr [rsp + 232], xmm4
 	movaps	xmm4, xmm1
@@ -159,8 +161,8 @@ reflect_normalize_packet16:
 	movaps	xmm4, xmm2
 	shufps	xmm4, xmm3, 78
 	movups	xmmword ptr [rsp + 264], xmm4
-	movaps	xmm4, xmm13
-	shufps	xmm4, xmm13, 27
+	movaps	xmm4, xmm0
+	shufps	xmm4, xmm0, 27
 	movaps	xmm5, xmmword ptr [rip + .LCPI_0]
 	movaps	xmm6, xmm5
 	cmpleps	xmm6, xmm4
@@ -198,43 +200,40 @@ reflect_normalize_packet16:
 	sqrtps	xmm5, xmm1
 	movaps	xmm1, xmm4
 	divps	xmm1, xmm5
-	movhlps	xmm13, xmm13
+	movhlps	xmm0, xmm0
 	movaps	xmm5, xmmword ptr [rsp + 224]
-	movlhps	xmm5, xmm13
+	movlhps	xmm5, xmm0
 	sqrtps	xmm0, xmm5
 	divps	xmm4, xmm0
+	mulps	xmm15, xmm4
+	movaps	xmmword ptr [rsp + 288], xmm15
 	movaps	xmm0, xmmword ptr [rsp]
-	mulps	xmm0, xmm4
-	movaps	xmmword ptr [rsp + 288], xmm0
-	movaps	xmm0, xmmword ptr [rsp + 16]
 	mulps	xmm0, xmm1
 	movaps	xmmword ptr [rsp + 304], xmm0
-	movaps	xmm0, xmmword ptr [rsp + 80]
-	mulps	xmm0, xmm2
-	movaps	xmmword ptr [rsp + 320], xmm0
+	movaps	xmm15, xmmword ptr [rsp + 64]
+	mulps	xmm15, xmm2
+	movaps	xmmword ptr [rsp + 320], xmm15
 	mulps	xmm14, xmm3
 	movaps	xmmword ptr [rsp + 336], xmm14
-	movaps	xmm0, xmmword ptr [rsp + 48]
+	movaps	xmm0, xmmword ptr [rsp + 16]
 	mulps	xmm0, xmm4
 	movaps	xmmword ptr [rsp + 352], xmm0
-	movaps	xmm0, xmmword ptr [rsp + 64]
+	movaps	xmm0, xmmword ptr [rsp + 48]
 	mulps	xmm0, xmm1
 	movaps	xmmword ptr [rsp + 368], xmm0
 	mulps	xmm9, xmm2
 	movaps	xmmword ptr [rsp + 384], xmm9
 	mulps	xmm12, xmm3
 	movaps	xmmword ptr [rsp + 400], xmm12
-	movaps	xmm5, xmmword ptr [rsp + 32]
-	mulps	xmm5, xmm4
-	movaps	xmm0, xmmword ptr [rsp + 96]
-	mulps	xmm0, xmm1
+	movaps	xmm0, xmmword ptr [rsp + 32]
+	mulps	xmm0, xmm4
+	mulps	xmm11, xmm1
 	mulps	xmm10, xmm2
-	movaps	xmm11, xmm15
-	mulps	xmm11, xmm3
-	movaps	xmmword ptr [rsp + 416], xmm5
-	movaps	xmmword ptr [rsp + 432], xmm0
+	mulps	xmm13, xmm3
+	movaps	xmmword ptr [rsp + 416], xmm0
+	movaps	xmmword ptr [rsp + 432], xmm11
 	movaps	xmmword ptr [rsp + 448], xmm10
-	movaps	xmmword ptr [rsp + 464], xmm11
+	movaps	xmmword ptr [rsp + 464], xmm13
 .LBB_3:
 	lea	rsi, [rsp + 288]
 	mov	edx, 192
@@ -244,38 +243,27 @@ reflect_normalize_packet16:
 	pop	rbx
 	ret
 .LBB_1:
-	movaps	xmm5, xmmword ptr [rsp]
-	movaps	xmm0, xmm5
-	unpckhpd	xmm0, xmm5
-	movaps	xmm4, xmmword ptr [rsp + 48]
-	movaps	xmm1, xmm4
-	unpckhpd	xmm1, xmm4
-	movaps	xmm3, xmmword ptr [rsp + 32]
-	movaps	xmm2, xmm3
-	unpckhpd	xmm2, xmm3
-	movlhps	xmm5, xmm0
-	movups	xmmword ptr [rsp + 480], xmm5
-	movaps	xmm0, xmmword ptr [rsp + 16]
-	movups	xmmword ptr [rsp + 496], xmm0
-	movaps	xmm0, xmmword ptr [rsp + 80]
-	movups	xmmword ptr [rsp + 512], xmm0
-	movups	xmmword ptr [rsp + 528], xmm14
-	movlhps	xmm4, xmm1
-	movups	xmmword ptr [rsp + 544], xmm4
+	movaps	xmmword ptr [rsp + 480], xmm15
+	movaps	xmm0, xmmword ptr [rsp]
+	movaps	xmmword ptr [rsp + 496], xmm0
 	movaps	xmm0, xmmword ptr [rsp + 64]
-	movups	xmmword ptr [rsp + 560], xmm0
-	movups	xmmword ptr [rsp + 576], xmm9
-	movups	xmmword ptr [rsp + 592], xmm12
-	movlhps	xmm3, xmm2
-	movups	xmmword ptr [rsp + 608], xmm3
-	movaps	xmm0, xmmword ptr [rsp + 96]
-	movups	xmmword ptr [rsp + 624], xmm0
-	movups	xmmword ptr [rsp + 640], xmm10
-	movups	xmmword ptr [rsp + 656], xmm15
+	movaps	xmmword ptr [rsp + 512], xmm0
+	movaps	xmmword ptr [rsp + 528], xmm14
+	movaps	xmm0, xmmword ptr [rsp + 16]
+	movaps	xmmword ptr [rsp + 544], xmm0
+	movaps	xmm0, xmmword ptr [rsp + 48]
+	movaps	xmmword ptr [rsp + 560], xmm0
+	movaps	xmmword ptr [rsp + 576], xmm9
+	movaps	xmmword ptr [rsp + 592], xmm12
+	movaps	xmm0, xmmword ptr [rsp + 32]
+	movaps	xmmword ptr [rsp + 608], xmm0
+	movaps	xmmword ptr [rsp + 624], xmm11
+	movaps	xmmword ptr [rsp + 640], xmm10
+	movaps	xmmword ptr [rsp + 656], xmm13
 	lea	rdi, [rsp + 288]
 	lea	rsi, [rsp + 480]
 	lea	rdx, [rsp + 224]
-	call	qword ptr [rip + _ZN7vecexpr8geometry18normalize_rescaled17h695fc6dfb87b9964E@GOTPCREL]
+	call	qword ptr [rip + _ZN7vecexpr4expr8geometry18normalize_rescaled17h95baa1849d1f5fc5E@GOTPCREL]
 	jmp	.LBB_3
 # constants
 .LCPI_0:

@@ -6,6 +6,8 @@
 //! ([`Expr::eval`], [`Vector::assign`](crate::Vector::assign)), one element at a time
 //! through [`Expr::coeff`] in the single loop of [`crate::assign`].
 
+pub(crate) mod geometry;
+
 use crate::op::{AbsOp, EqOp, GeOp, GtOp, LeOp, LtOp, MaxOp, MinOp, MulOp, RecipOp, SqrtOp};
 use crate::scalar::Real;
 use crate::scalar::{Mask, Scalar};
@@ -48,7 +50,7 @@ pub trait Expr: Sized {
     /// ```
     #[inline(always)]
     fn eval(self) -> Vector<Self::Scalar, Self::Dim> {
-        crate::assign::eval(&self)
+        Vector::from_generic_array(crate::assign::eval(&self))
     }
 
     /// Computes the expression into a new heap-allocated vector, never touching the stack
@@ -304,7 +306,7 @@ pub trait Expr: Sized {
     /// ```
     #[inline(always)]
     fn normalize(self) -> Vector<Self::Scalar, Self::Dim> {
-        crate::geometry::normalize(self.eval())
+        geometry::normalize(self.eval())
     }
     /// An approximate unit vector $x \cdot \widetilde{\mathrm{rsqrt}}(\lVert x \rVert^2)$
     /// using [`Real::rsqrt_approx`] (a magic-constant estimate and one Newton step)
@@ -344,7 +346,7 @@ pub trait Expr: Sized {
         Self::Dim: Dim3,
         R: Operand<Self::Scalar, Self::Dim>,
     {
-        crate::geometry::cross(self.eval(), rhs.into_expr().eval())
+        geometry::cross(self.eval(), rhs.into_expr().eval())
     }
     /// Reflection of the incident direction `self` about the normal `n`:
     /// $R = I - 2 N (N \cdot I)$. `n` must be unit length; `self` need not be.
@@ -357,7 +359,7 @@ pub trait Expr: Sized {
     /// ```
     #[inline(always)]
     fn reflect<R: Operand<Self::Scalar, Self::Dim>>(self, n: R) -> Vector<Self::Scalar, Self::Dim> {
-        crate::geometry::reflect(self.eval(), n.into_expr().eval())
+        geometry::reflect(self.eval(), n.into_expr().eval())
     }
     /// Refraction of the unit incident direction `self` through a surface with unit
     /// normal `n` (pointing against `self`), with $\eta = n_1 / n_2$, by Snell's law:
@@ -385,7 +387,7 @@ pub trait Expr: Sized {
     where
         Self::Scalar: Real,
     {
-        let (t, ok) = crate::geometry::refract(self.eval(), n.into_expr().eval(), eta);
+        let (t, ok) = geometry::refract(self.eval(), n.into_expr().eval(), eta);
         ok.then_some(t)
     }
     /// [`Expr::refract`] for any scalar, packets included: returns the refracted
@@ -414,7 +416,7 @@ pub trait Expr: Sized {
         n: R,
         eta: Self::Scalar,
     ) -> Refracted<Self::Scalar, Self::Dim> {
-        crate::geometry::refract(self.eval(), n.into_expr().eval(), eta)
+        geometry::refract(self.eval(), n.into_expr().eval(), eta)
     }
 }
 
@@ -501,6 +503,15 @@ impl<T: Scalar> SameScalar<T> for T {
     #[inline(always)]
     fn same(self) -> T {
         self
+    }
+}
+
+/// Every expression is a source for the evaluation loops of [`crate::assign`].
+impl<E: Expr> crate::assign::Source for E {
+    type Item = E::Scalar;
+    #[inline(always)]
+    fn at(&self, i: usize) -> E::Scalar {
+        self.coeff(i)
     }
 }
 

@@ -2,7 +2,7 @@
 //! `reflect` and `refract` of [`Expr`]. Each takes its inputs already evaluated, so a
 //! child expression is computed once however often the formula uses it.
 
-use crate::expr::{Dim3, Expr};
+use super::{Dim3, Expr};
 use crate::scalar::{Mask, Real, Scalar};
 use crate::vector::Vector;
 use generic_array::ArrayLength;
