@@ -6,7 +6,7 @@
 //! huge pages on request (Linux's `madvise` mode), memory advised with `MADV_HUGEPAGE`
 //! is mapped 2 MiB at a time instead, 512 times fewer faults. Embree asks for huge pages
 //! for its BVH memory the same way (`os_malloc` in its `common/sys/alloc.cpp`). The
-//! effect on a first build is in `RESULTS.md` ("Builds").
+//! effect on a first build is in `tracer/JOURNAL.md` ("Builds").
 //!
 //! The advice covers the 2 MiB-aligned part of a vector's spare capacity, so small
 //! vectors get none. It changes how the memory is mapped, never what it holds, and

@@ -650,7 +650,7 @@ fn split(
 /// primitives, so it never has a valid split): the right-to-left sweep stores $N_R A_R$
 /// and $N_R$, the left-to-right one adds $N_L A_L$ and keeps, per axis, the first of the
 /// cheapest. Without branches, builds take 9 to 13 % fewer instructions than with the
-/// same sweeps axis by axis, and the trees are the same (`RESULTS.md`, "Builds").
+/// same sweeps axis by axis, and the trees are the same (`JOURNAL.md`, "Builds").
 #[inline(always)]
 fn best_split(bins: &Bins, nb: usize, scratch: &mut SweepScratch) -> Option<(f32, usize, usize)> {
     let right_cost = &mut scratch.right_cost;

@@ -20,7 +20,7 @@
 //!   only at a leaf. Packets of eight or more lanes (AVX2, AVX-512) walk the beam over
 //!   the eight-wide tree where the geometry has it, eight boxes in one AVX register:
 //!   0.87 to 0.99 of the instructions per ray of the four-wide beam on the classic
-//!   scenes (AVX2 packets of eight; `tracer/RESULTS.md`, "Geometry loads at the
+//!   scenes (AVX2 packets of eight; `tracer/JOURNAL.md`, "Geometry loads at the
 //!   leaves, and the beam on the eight-wide tree"). A beam whose rays are far apart
 //!   compared with the leaves it reaches gives up, and its rays walk one by one.
 //! - [`Bvh::traverse_packet`] walks the binary tree (`--binary-bvh`): children are

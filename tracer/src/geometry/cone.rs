@@ -221,7 +221,7 @@ const CLEAR_SLACK: f64 = 1.0 / (1u64 << 29) as f64;
 /// small part of their boxes: its single shadow rays test 6.7 cones each, and this test
 /// spares 79 % of those tests the exact one (about 56 instructions instead of 150), so
 /// 1,741 instructions a shadow ray instead of 1,874, and 0.950 of the frame's
-/// (`tracer/RESULTS.md`, "Cones tested against their axis line first").
+/// (`tracer/JOURNAL.md`, "Cones tested against their axis line first").
 ///
 /// With $w = o - b$ and $n = d \times \hat a$ the distance between the lines is
 /// $|w \cdot n| / |n|$, so the test is $(w \cdot n)^2 > R^2 |n|^2$. It is made

@@ -524,7 +524,7 @@ impl<T: Float> Geometry<T> {
     /// one kind the type dispatch per primitive test and the other kinds' tests are
     /// left out: on the triangle scenes (teapot-s12, gears-s4, tetra-s6) single eye
     /// rays run 0.957 to 0.966 of the instructions and shadow rays 0.956 to 0.959
-    /// (`tracer/RESULTS.md`, "The public queries compiled for the scene's kinds"). The
+    /// (`tracer/JOURNAL.md`, "The public queries compiled for the scene's kinds"). The
     /// callers are inlined, or the hit record is returned through memory (+45
     /// instructions a ray).
     #[inline(always)]
@@ -982,7 +982,7 @@ impl<T: Float> Geometry<T> {
     /// group are gone, and 4 of the triangle test's 7). On the AVX-512 machine (Zen 4),
     /// one thread, 512², medians of seven alternations against `avx512: false`: single
     /// eye rays 1.01 (gears-s4) to 1.16 (mount-s6) times as fast, shadow rays 1.00
-    /// (mount-s6) to 1.14 (teapot-s12) on the seven classic scenes (`tracer/RESULTS.md`,
+    /// (mount-s6) to 1.14 (teapot-s12) on the seven classic scenes (`tracer/JOURNAL.md`,
     /// "The single-ray walks compiled for AVX-512VL"). Callgrind cannot count it:
     /// valgrind does not run AVX-512 code.
     ///

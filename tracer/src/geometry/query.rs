@@ -182,7 +182,7 @@ impl<T: Float, const ANY: bool, const WATERTIGHT: bool, const KINDS: u32, const 
 /// it uses when it runs. The eight-wide closest-hit query uses it: 0.95 to 0.98 of the
 /// instructions per single eye ray on six of the seven classic scenes (teapot-s12 711 to
 /// 687, tetra-s6 516 to 488; rings-s7 1.003), and tetra-s6's eye rays went from 0.93 to
-/// 0.99 of Embree's rate (`tracer/RESULTS.md`, "Geometry loads at the leaves"). The
+/// 0.99 of Embree's rate (`tracer/JOURNAL.md`, "Geometry loads at the leaves"). The
 /// any-hit queries were slower with it, and the four-wide closest-hit query (the packets'
 /// hand-over) took 1 to 2 % more instructions, so they do not use it.
 #[inline(always)]

@@ -360,7 +360,7 @@ struct WatertightLanes<S: SimdF32> {
 /// that is most tests, 0.972 to 0.984 of the eye packets' instructions on the seven
 /// classic scenes. Four triangles against one ray do without it: there the extra branch
 /// cost more than it saved (1.006 to 1.014 of the single eye rays' instructions on the
-/// triangle scenes; `tracer/RESULTS.md`, "The node's last cache line fetched early, and
+/// triangle scenes; `tracer/JOURNAL.md`, "The node's last cache line fetched early, and
 /// where the per-ray instructions go").
 #[inline(always)]
 fn watertight_finish<S: SimdF32, const EARLY: bool>(

@@ -8,7 +8,7 @@
 //! test of eight children costs the instructions of four. On the seven classic scenes
 //! a single eye ray runs 10 to 21 % fewer instructions than on the four-wide tree, and
 //! single rays against Embree went from 0.93 to 1.03 (eye) and 0.86 to 1.01 (shadow)
-//! on the geometric mean (`tracer/RESULTS.md`, "An eight-wide tree for single rays").
+//! on the geometric mean (`tracer/JOURNAL.md`, "An eight-wide tree for single rays").
 //! Packets that test each child against their rays keep the four-wide tree (their box
 //! test puts rays, not children, in the lanes); eye packets that walk as one beam
 //! test a node's children against the beam, and take the eight-wide tree in AVX2 and
@@ -38,7 +38,7 @@
 //! are filled or only leaves remain. Nodes are thus full wherever the subtree allows
 //! (the collapse of every second level left a slot empty wherever a child was a leaf):
 //! 0 to 15 % fewer wide nodes on the classic scenes, and 2 to 5 % fewer instructions per
-//! single eye ray on five of the seven (`tracer/RESULTS.md`, "Packets over the four-wide
+//! single eye ray on five of the seven (`tracer/JOURNAL.md`, "packets over the four-wide
 //! tree"). Each wide level spans at least one binary level, so a
 //! tree of binary depth [`super::build::MAX_DEPTH`] has at most as many wide levels,
 //! which bounds the traversal stack ([`STACK_SIZE`]).

@@ -152,7 +152,7 @@ impl Bvh {
                 // which the box test does not read: fetched now, it arrives while the
                 // boxes are tested instead of after. balls-s6, whose tree does not fit
                 // in the caches: single eye rays 1.012 to 1.036 times as fast in five
-                // alternations; the classic scenes unchanged (`tracer/RESULTS.md`,
+                // alternations; the classic scenes unchanged (`tracer/JOURNAL.md`,
                 // "The node's last cache line fetched early, and where the per-ray
                 // instructions go").
                 vecexpr::simd::prefetch(node.child.as_ptr());
@@ -184,7 +184,7 @@ impl Bvh {
                     // children by insertion, as below, cost more than the visits it
                     // saves: without it 2 to 4 % fewer instructions per single eye ray
                     // (teapot-s12 739 to 713, tetra-s6 531 to 517) and 5 to 10 % faster
-                    // (`tracer/RESULTS.md`, "An eight-wide tree for single rays"). The
+                    // (`tracer/JOURNAL.md`, "An eight-wide tree for single rays"). The
                     // closest hit is the same: a popped entry is still culled by its
                     // exact entry distance, and the result does not depend on the order.
                     let all = bits | (1 << first);
