@@ -22,7 +22,9 @@
 //!   0.87 to 0.99 of the instructions per ray of the four-wide beam on the classic
 //!   scenes (AVX2 packets of eight; `tracer/JOURNAL.md`, "Geometry loads at the
 //!   leaves, and the beam on the eight-wide tree"). A beam whose rays are far apart
-//!   compared with the leaves it reaches gives up, and its rays walk one by one.
+//!   compared with the leaves it reaches gives up, and its rays walk one by one; after
+//!   two such beams in a row, a thread's next packets skip the beam (one in eight tries
+//!   it again).
 //! - [`Bvh::traverse_packet`] walks the binary tree (`--binary-bvh`): children are
 //!   visited nearest first by the entry distance of the first ray that hits both; the
 //!   other child is pushed with its mask and, on pop, its box is tested again with the
@@ -271,9 +273,55 @@ pub trait PacketVisitor<S: SimdF32> {
 const BEAM_EMPTY_MIN: u32 = 4;
 /// See [`BEAM_EMPTY_MIN`].
 const BEAM_EMPTY_PER_LEAF: u32 = 4;
+/// After this many beams in a row gave up on a thread, the following packets skip the
+/// beam and trace their rays one by one at once ([`PacketVisitor::scatter`]), but for
+/// one packet in [`BEAM_RETRY_EVERY`], which tries the beam again (a beam that reaches
+/// the end of its walk ends the streak). Eye packets come tile by tile, so consecutive
+/// packets of a thread are neighbours: where the rays are too far apart for the leaves,
+/// their neighbours' are too. Which way a packet goes never changes what it finds.
+const BEAM_SKIP_AFTER: u32 = 2;
+/// See [`BEAM_SKIP_AFTER`].
+const BEAM_RETRY_EVERY: u32 = 8;
+
+std::thread_local! {
+    /// Beams that gave up in a row on this thread, skipped packets included
+    /// ([`BEAM_SKIP_AFTER`]).
+    static BEAM_STREAK: core::cell::Cell<u32> = const { core::cell::Cell::new(0) };
+}
+
+/// Should the next beam be skipped ([`BEAM_SKIP_AFTER`])? Counts the skip.
+#[inline(always)]
+fn skip_beam() -> bool {
+    BEAM_STREAK.with(|s| {
+        let n = s.get();
+        let skip =
+            n >= BEAM_SKIP_AFTER && !(n - BEAM_SKIP_AFTER + 1).is_multiple_of(BEAM_RETRY_EVERY);
+        if skip {
+            s.set(n.saturating_add(1));
+        }
+        skip
+    })
+}
+
+/// Records whether a beam that was tried gave up ([`BEAM_SKIP_AFTER`]).
+#[inline(always)]
+fn beam_gave_up(gave_up: bool) {
+    BEAM_STREAK.with(|s| {
+        s.set(if gave_up {
+            s.get().saturating_add(1)
+        } else {
+            0
+        })
+    });
+}
+
 /// Beams that gave up, for the tests that must reach that path.
 #[cfg(test)]
 pub(crate) static BEAMS_GIVEN_UP: core::sync::atomic::AtomicUsize =
+    core::sync::atomic::AtomicUsize::new(0);
+/// Beams skipped after others gave up ([`BEAM_SKIP_AFTER`]), for the same tests.
+#[cfg(test)]
+pub(crate) static BEAMS_SKIPPED: core::sync::atomic::AtomicUsize =
     core::sync::atomic::AtomicUsize::new(0);
 
 impl<S: SimdF32> PacketRay<S> {
@@ -326,7 +374,9 @@ impl Bvh {
     /// is one, for packets of eight or more lanes), without hand-over. A beam gives up
     /// once the leaves it reaches that none of its rays reach outnumber four plus four
     /// times the others: rays that far apart, compared with the leaves, are not
-    /// coherent, and [`PacketVisitor::scatter`] traces them one by one.
+    /// coherent, and [`PacketVisitor::scatter`] traces them one by one. After two beams
+    /// in a row gave up on a thread, the next packets go to `scatter` at once, without a
+    /// beam, but for one in eight, which tries the beam again (`BEAM_SKIP_AFTER`).
     ///
     /// Every ray takes part in each leaf its own traversal would reach with its current
     /// closest distance or a larger one, so what the geometry finds for each lane is
@@ -367,6 +417,16 @@ impl Bvh {
             rest &= !lanes;
             #[cfg(target_arch = "x86_64")]
             if frustum {
+                // Before the frustum is even made: the last beams here gave up.
+                if skip_beam() {
+                    #[cfg(test)]
+                    BEAMS_SKIPPED.fetch_add(1, core::sync::atomic::Ordering::Relaxed);
+                    match visit.scatter(lanes) {
+                        Some(t) => t_max = t,
+                        None => return t_max,
+                    }
+                    continue;
+                }
                 if let Some(f) = Frustum::new(ray, lanes) {
                     // Packets of eight or more lanes run in code compiled for AVX2,
                     // where the beam walks the eight-wide tree when there is one.
@@ -387,6 +447,7 @@ impl Bvh {
                             nodes, &beam, ray, neg, lanes, t_max, visit,
                         )
                     };
+                    beam_gave_up(walked.is_err());
                     let walked = match walked {
                         Ok(w) => w,
                         // The beam met more leaves than its rays reach: they are not

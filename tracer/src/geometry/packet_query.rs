@@ -1214,7 +1214,8 @@ mod tests {
     /// Eye packets whose beams give up (a lattice of small spheres seen through a
     /// coarse camera, so most leaves a beam reaches lie between its rays): each lane
     /// still ends with the single ray's closest hit, and an any-hit query of the same
-    /// rays (bounded, so some are blocked and some not) with the single ray's answer.
+    /// rays (bounded, so some are blocked and some not) with the single ray's answer;
+    /// the packets that skip the beam after others gave up as well.
     #[test]
     fn beams_that_give_up_give_the_single_ray_answers() {
         use core::sync::atomic::Ordering;
@@ -1234,7 +1235,9 @@ mod tests {
         let g = &Geometry::<f32>::build(&desc.shapes, &AccelOptions::default());
         let (w, h) = (12usize, 12usize);
         let cam = crate::camera::Camera::<f32>::new(&desc.camera, w as u32, h as u32);
-        let before = crate::bvh::packet_traverse::BEAMS_GIVEN_UP.load(Ordering::Relaxed);
+        use crate::bvh::packet_traverse::{BEAMS_GIVEN_UP, BEAMS_SKIPPED};
+        let before = BEAMS_GIVEN_UP.load(Ordering::Relaxed);
+        let skipped_before = BEAMS_SKIPPED.load(Ordering::Relaxed);
         let (mut hits_seen, mut blocked_seen) = (0, 0);
         for isa in Isa::available() {
             let n = isa.lanes();
@@ -1283,8 +1286,15 @@ mod tests {
                 }
             }
         }
-        let given_up = crate::bvh::packet_traverse::BEAMS_GIVEN_UP.load(Ordering::Relaxed) - before;
+        // Beams give up; after two in a row the next packets skip the beam (one in eight
+        // tries it again) until a beam gets through, on this test's thread.
+        let given_up = BEAMS_GIVEN_UP.load(Ordering::Relaxed) - before;
+        let skipped = BEAMS_SKIPPED.load(Ordering::Relaxed) - skipped_before;
         assert!(given_up > 10, "only {given_up} beams gave up");
+        assert!(
+            skipped > given_up,
+            "{skipped} beams skipped, {given_up} gave up"
+        );
         assert!(
             hits_seen > 100 && blocked_seen > 10 && blocked_seen < hits_seen,
             "{hits_seen} hits, {blocked_seen} blocked"
