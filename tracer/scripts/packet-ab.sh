@@ -4,7 +4,8 @@
 # measurements of the packets over the four-wide tree (512x512), then the median rate of
 # each build and the median of the per-pair ratios new / old.
 # Usage: tracer/scripts/packet-ab.sh OLD_BIN NEW_BIN ROUNDS SCENE...
-#   SCENE is a name in ../shared/scenes/spd without .nff, e.g. teapot-s12
+#   SCENE is a name in ../shared/scenes/spd without .nff, e.g. teapot-s12, or a path
+#   (with a '/'), e.g. ../shared/scenes/spd-large/balls-s6.nff.gz
 #   ONLY=single measures single eye rays over the four-wide tree instead of packets.
 #   SIZE=WxH sets the image size (512x512 by default).
 #   e.g. git worktree add /tmp/old COMMIT && cargo build --profile perf -p tracer
@@ -24,10 +25,13 @@ case $only in
   single) col=3 ;;
   *) echo "ONLY=$only: expected wide or single" >&2; exit 2 ;;
 esac
-rate() { "$1" --runs 1 --threads 1 --only "$only" --size "$size" "$S/$2.nff" | awk -F'|' -v c=$col '/nff/ {print $c}'; }
+scene() { case $1 in */*) echo "$1" ;; *) echo "$S/$1.nff" ;; esac; }
+rate() { "$1" --runs 1 --threads 1 --only "$only" --size "$size" "$(scene "$2")" | awk -F'|' -v c=$col '/nff/ {print $c}'; }
 echo "| scene | old Mrays/s | new Mrays/s | new / old |"
 echo "|---|---:|---:|---:|"
 for s in "$@"; do
+  name=$(basename "$s")
+  name=${name%%.*}
   pairs=""
   for _ in $(seq "$rounds"); do
     pairs+="$(rate "$old" "$s") $(rate "$new" "$s")"$'\n'
@@ -38,5 +42,5 @@ p = [tuple(map(float, l.split())) for l in sys.argv[2].splitlines() if l.strip()
 a = statistics.median(x for x, _ in p)
 b = statistics.median(y for _, y in p)
 r = statistics.median(y / x for x, y in p)
-print(f"| {sys.argv[1]} | {a:.2f} | {b:.2f} | {r:.3f} |")' "$s" "$pairs"
+print(f"| {sys.argv[1]} | {a:.2f} | {b:.2f} | {r:.3f} |")' "$name" "$pairs"
 done

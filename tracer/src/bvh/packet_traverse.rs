@@ -269,7 +269,7 @@ pub trait PacketVisitor<S: SimdF32> {
 /// packets (callgrind, `packet_walk --only wide`, balls-s4, gears-s4, teapot-s12,
 /// tetra-s6 and balls-s6 at 64x64 to 512x512): lower ones gave up on coherent packets
 /// too and cost up to 8 % on balls-s4 at 64x64, higher ones left balls-s6 at 128x128
-/// walking as beams (`tracer/RESULTS.md`, "Beams that give up").
+/// walking as beams (`tracer/JOURNAL.md`, "Beams that give up").
 const BEAM_EMPTY_MIN: u32 = 4;
 /// See [`BEAM_EMPTY_MIN`].
 const BEAM_EMPTY_PER_LEAF: u32 = 4;
