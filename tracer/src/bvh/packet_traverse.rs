@@ -417,41 +417,40 @@ impl Bvh {
             rest &= !lanes;
             #[cfg(target_arch = "x86_64")]
             if frustum {
-                // Before the frustum is even made: the last beams here gave up.
-                if skip_beam() {
-                    #[cfg(test)]
-                    BEAMS_SKIPPED.fetch_add(1, core::sync::atomic::Ordering::Relaxed);
-                    match visit.scatter(lanes) {
-                        Some(t) => t_max = t,
-                        None => return t_max,
-                    }
-                    continue;
-                }
                 if let Some(f) = Frustum::new(ray, lanes) {
-                    // Packets of eight or more lanes run in code compiled for AVX2,
-                    // where the beam walks the eight-wide tree when there is one.
-                    let walked = if S::LANES >= 8 && !self.wide8_nodes().is_empty() {
-                        let beam = Beam::<F32x8>::new(&f, neg);
-                        self.frustum_walk::<S, _, WIDTH8, { STACK8_SIZE + WIDTH8 }>(
-                            self.wide8_nodes(),
-                            &beam,
-                            ray,
-                            neg,
-                            lanes,
-                            t_max,
-                            visit,
-                        )
+                    let walked = if skip_beam() {
+                        // The last beams of this thread gave up: no beam this time.
+                        #[cfg(test)]
+                        BEAMS_SKIPPED.fetch_add(1, core::sync::atomic::Ordering::Relaxed);
+                        Err(())
                     } else {
-                        let beam = Beam::<vecexpr::simd::F32x4>::new(&f, neg);
-                        self.frustum_walk::<S, _, WIDTH, { STACK4_SIZE + WIDTH }>(
-                            nodes, &beam, ray, neg, lanes, t_max, visit,
-                        )
+                        // Packets of eight or more lanes run in code compiled for AVX2,
+                        // where the beam walks the eight-wide tree when there is one.
+                        let walked = if S::LANES >= 8 && !self.wide8_nodes().is_empty() {
+                            let beam = Beam::<F32x8>::new(&f, neg);
+                            self.frustum_walk::<S, _, WIDTH8, { STACK8_SIZE + WIDTH8 }>(
+                                self.wide8_nodes(),
+                                &beam,
+                                ray,
+                                neg,
+                                lanes,
+                                t_max,
+                                visit,
+                            )
+                        } else {
+                            let beam = Beam::<vecexpr::simd::F32x4>::new(&f, neg);
+                            self.frustum_walk::<S, _, WIDTH, { STACK4_SIZE + WIDTH }>(
+                                nodes, &beam, ray, neg, lanes, t_max, visit,
+                            )
+                        };
+                        beam_gave_up(walked.is_err());
+                        walked
                     };
-                    beam_gave_up(walked.is_err());
                     let walked = match walked {
                         Ok(w) => w,
-                        // The beam met more leaves than its rays reach: they are not
-                        // coherent at the scale of the tree's leaves, and walk alone.
+                        // The beam met (or the last beams met) more leaves than its rays
+                        // reach: they are not coherent at the scale of the tree's leaves,
+                        // and walk alone.
                         Err(_) => visit.scatter(lanes),
                     };
                     match walked {
