@@ -386,10 +386,6 @@ impl<T: Float> Geometry<T> {
     fn from_builder(b: GeometryBuilder<T>, opts: &AccelOptions, start: Instant) -> Self {
         let mut prims = b.prims;
         let mut build_prims = prims.build_prims(opts.parallel_build);
-        let mut total = Bounds3::EMPTY;
-        for p in &build_prims {
-            total.union(&p.bounds());
-        }
         #[cfg(target_arch = "x86_64")]
         let avx2 = vecexpr::simd::Isa::Avx2.is_available();
         #[cfg(not(target_arch = "x86_64"))]
@@ -420,6 +416,18 @@ impl<T: Float> Geometry<T> {
             prims.group_leaves(&mut bvh);
             bvh
         });
+        // The bounds of every bounded primitive: the root box of the BVH, which is
+        // their union, or, without a tree, one pass over them.
+        let total = match bvh.as_ref().and_then(|b| b.nodes().first()) {
+            Some(root) => Bounds3 {
+                lo: root.bounds[0],
+                hi: root.bounds[1],
+            },
+            None => build_prims.iter().fold(Bounds3::EMPTY, |mut t, p| {
+                t.union(&p.bounds());
+                t
+            }),
+        };
         drop(build_prims);
         let stats = GeometryStats {
             spheres: prims.spheres.len(),

@@ -18,8 +18,6 @@ pub fn collapse<const W: usize>(bin: &[Node]) -> (Vec<WideNode<W>>, usize) {
 /// Emits the wide node of binary node `at` and, recursively, its interior children.
 /// Returns the depth (levels) of the emitted subtree.
 fn emit<const W: usize>(bin: &[Node], at: usize, out: &mut Vec<WideNode<W>>) -> usize {
-    let idx = out.len();
-    out.push(WideNode::EMPTY);
     let mut slots = [0usize; W];
     let mut n;
     let node = &bin[at];
@@ -33,6 +31,9 @@ fn emit<const W: usize>(bin: &[Node], at: usize, out: &mut Vec<WideNode<W>>) -> 
         let area_of = |c: usize| {
             let b = &bin[c];
             (!b.is_leaf()).then(|| {
+                // The far child of an interior slot, which opening the slot or emitting
+                // its node reads next, is fetched now (the near child is the next node).
+                vecexpr::simd::prefetch(bin.as_ptr().wrapping_add(b.offset as usize));
                 Bounds3 {
                     lo: b.bounds[0],
                     hi: b.bounds[1],
@@ -66,19 +67,30 @@ fn emit<const W: usize>(bin: &[Node], at: usize, out: &mut Vec<WideNode<W>>) -> 
             n += 1;
         }
     }
+    // The node is written once, whole: an interior lane gets its child's index after
+    // that child's subtree is emitted. (An empty node pushed first and the finished one
+    // copied over it after the subtree wrote each node twice, the second time long
+    // after its line had left the caches.)
     let mut wide = WideNode::EMPTY;
-    let mut depth = 1;
     for (lane, &c) in slots[..n].iter().enumerate() {
         let b = &bin[c];
-        if b.is_leaf() {
-            wide.set(lane, &b.bounds, b.offset, b.count);
+        let (child, count) = if b.is_leaf() {
+            (b.offset, b.count)
         } else {
+            (0, 0)
+        };
+        wide.set(lane, &b.bounds, child, count);
+    }
+    let idx = out.len();
+    out.push(wide);
+    let mut depth = 1;
+    for (lane, &c) in slots[..n].iter().enumerate() {
+        if !bin[c].is_leaf() {
             let child = out.len() as u32;
             depth = depth.max(1 + emit(bin, c, out));
-            wide.set(lane, &b.bounds, child, 0);
+            out[idx].child[lane] = child;
         }
     }
-    out[idx] = wide;
     depth
 }
 
