@@ -9,7 +9,9 @@
 //! ```
 //!
 //! Prints one Markdown row per scene: median Mrays per second of each way over `--runs`
-//! rounds (the three alternate within a round), and the ratios. Every packet hit is
+//! rounds (the three alternate within a round), and the ratios. Each way writes every
+//! ray's hit record into a buffer, as a renderer keeps them (and as `tracer bench`
+//! times both). Every packet hit is
 //! checked against the single-ray hit of its pixel once, before timing. With
 //! `--only single|binary|wide` only that way is run, once per round and unchecked (for
 //! an instruction count under callgrind). Single rays are cast in row order, or with
@@ -23,7 +25,7 @@ use std::time::Instant;
 use tracer::geometry::AccelOptions;
 use tracer::packets::EyePackets;
 use tracer::stats::median;
-use tracer::{Ray, Scene};
+use tracer::{Hit, Ray, Scene};
 use vecexpr::simd::Isa;
 
 struct Options {
@@ -110,14 +112,15 @@ fn parse_args() -> Result<Options, String> {
     Ok(o)
 }
 
-/// Casts every ray alone on the current pool; the number of hits. (A function of its
-/// own, so that callgrind can count it alone: `--toggle-collect='*cast_single*'`.)
+/// Casts every ray alone on the current pool, its hit record into `out` (as the packets
+/// write theirs, and as `tracer bench` times single rays). (A function of its own, so
+/// that callgrind can count it alone: `--toggle-collect='*cast_single*'`.)
 #[inline(never)]
-fn cast_single(scene: &Scene<f32>, rays: &[Ray<f32>]) -> usize {
-    rays.par_iter()
+fn cast_single(scene: &Scene<f32>, rays: &[Ray<f32>], out: &mut [Option<Hit<f32>>]) {
+    out.par_iter_mut()
+        .zip(rays.par_iter())
         .with_min_len(256)
-        .filter(|r| scene.intersect(r).is_some())
-        .count()
+        .for_each(|(h, r)| *h = scene.intersect(r));
 }
 
 fn main() -> ExitCode {
@@ -177,6 +180,7 @@ fn main() -> ExitCode {
             .iter()
             .map(|&(x, y)| Ray::new(cam.position, cam.direction(x as f32 + 0.5, y as f32 + 0.5)))
             .collect();
+        let mut single_hits = vec![None; rays.len()];
         let mut pw = EyePackets::new(&cam, o.isa);
         let mut pb = EyePackets::new(&cam, o.isa);
         if o.only.is_none() {
@@ -205,7 +209,8 @@ fn main() -> ExitCode {
                 let run = |k: usize| o.only.is_none_or(|only| only == k);
                 if run(0) {
                     let s = Instant::now();
-                    std::hint::black_box(cast_single(&wide, &rays));
+                    cast_single(&wide, &rays, &mut single_hits);
+                    std::hint::black_box(&single_hits);
                     times[0].push(n / s.elapsed().as_secs_f64() * 1e-6);
                 }
                 if run(1) {
