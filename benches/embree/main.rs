@@ -9,7 +9,7 @@
 //!   toward the first light, any hit before the light (Embree `rtcOccluded1`, tracer
 //!   [`tracer::Scene::occluded`]);
 //! - `eye16`: the eye rays in packets of 4x4 pixels (Embree `rtcIntersect16`, tracer
-//!   [`tracer::Scene::cast_packet`] with the widest instruction set, see
+//!   [`tracer::Scene::cast_packet_into`] with the widest instruction set, see
 //!   [`tracer_packet16`]).
 //!
 //! Geometry: polygons and patches are cut into triangles by the tracer's own
@@ -390,7 +390,7 @@ fn rtc_ray(r: &Ray<f32>, t_max: f32) -> RTCRay {
 }
 
 /// The tracer's closest hits of one 4x4 packet: one packet of sixteen with AVX-512, two
-/// of eight with AVX2 ([`Scene::intersect_packet`]), single rays on other CPUs.
+/// of eight with AVX2 ([`Scene::cast_packet_into`]), single rays on other CPUs.
 #[inline]
 fn tracer_packet16(
     scene: &Scene<f32>,
@@ -401,12 +401,13 @@ fn tracer_packet16(
     match isa {
         Some(isa) if isa >= Isa::Avx2 => {
             let n = isa.lanes();
+            let mut hits = [None; MAX_LANES];
             for (o, r) in out.chunks_mut(n).zip(rays.chunks(n)) {
                 let mut lanes = [None; MAX_LANES];
                 for (l, r) in lanes.iter_mut().zip(r) {
                     *l = Some(**r);
                 }
-                let hits = scene.cast_packet(isa, &lanes);
+                scene.cast_packet_into(isa, &lanes, &mut hits);
                 for (o, h) in o.iter_mut().zip(&hits) {
                     *o = h.as_ref().map(|h| h.t());
                 }

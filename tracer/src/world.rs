@@ -192,6 +192,21 @@ impl Scene<f32> {
         self.geometry.cast_packet(isa, rays)
     }
 
+    /// [`Scene::cast_packet`] into `out` ([`Geometry::cast_packet_into`]): the first
+    /// [`Isa::lanes`] entries are written.
+    ///
+    /// # Panics
+    /// If the CPU lacks `isa` or off x86-64.
+    #[inline]
+    pub fn cast_packet_into(
+        &self,
+        isa: Isa,
+        rays: &[Option<Ray<f32>>; MAX_LANES],
+        out: &mut [Option<Intersection<f32>>; MAX_LANES],
+    ) {
+        self.geometry.cast_packet_into(isa, rays, out);
+    }
+
     /// Whether each ray of a packet is blocked ([`Geometry::occluded_packet`]).
     ///
     /// # Panics

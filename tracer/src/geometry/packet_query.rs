@@ -97,6 +97,27 @@ impl<S: SimdF32> LaneBest<S> {
         }
     }
 
+    /// Writes each lane's closest hit into `out`: `None` for a lane not in `valid` or
+    /// without a candidate. (The records of [`LaneBest::store`] and the answers in one
+    /// pass.)
+    #[inline(always)]
+    fn store_found(&self, valid: u32, out: &mut [Option<Intersection<f32>>]) {
+        let mut v = [[0.0f32; MAX_LANES]; 4];
+        self.t.store(&mut v[0]);
+        self.b1.store(&mut v[1]);
+        self.b2.store(&mut v[2]);
+        self.r.store(&mut v[3]);
+        for (l, o) in out[..S::LANES].iter_mut().enumerate() {
+            let r = v[3][l].to_bits();
+            *o = (valid & (1 << l) != 0 && r != NO_HIT).then_some(Intersection(Best {
+                r,
+                t: v[0][l],
+                b1: v[1][l],
+                b2: v[2][l],
+            }));
+        }
+    }
+
     /// Writes the lanes into `best`.
     #[inline(always)]
     fn store(&self, best: &mut [Best<f32>; MAX_LANES]) {
@@ -644,15 +665,14 @@ impl Geometry<f32> {
             }
             return;
         }
-        let mut best = [Best::none(0.0); MAX_LANES];
-        let valid = self.closest_packet::<S>(rays, switch, frustum, &mut best);
-        for (l, o) in out[..n].iter_mut().enumerate() {
-            *o = (valid & (1 << l) != 0 && best[l].r != NO_HIT).then_some(Intersection(best[l]));
+        match self.closest_packet::<S>(rays, switch, frustum) {
+            Some((valid, lanes)) => lanes.store_found(valid, &mut out[..n]),
+            None => out[..n].fill(None),
         }
     }
 
-    /// The packet walk of the closest hits into `best` (each lane's winning candidate,
-    /// [`NO_HIT`] for none); returns the valid lanes as bits. Needs
+    /// The packet walk of the closest hits: the valid lanes as bits and each lane's
+    /// winning candidate ([`NO_HIT`] for none), `None` if no lane is valid. Needs
     /// [`Geometry::packet_kernels`].
     #[inline(always)]
     fn closest_packet<S: SimdF32>(
@@ -660,16 +680,15 @@ impl Geometry<f32> {
         rays: &[Option<Ray<f32>>],
         switch: u32,
         frustum: bool,
-        best: &mut [Best<f32>; MAX_LANES],
-    ) -> u32 {
+    ) -> Option<(u32, LaneBest<S>)> {
         let rd = LaneData::new();
-        let Some(su) = Setup::<S>::new(rays, &rd) else {
-            return 0;
-        };
+        let su = Setup::<S>::new(rays, &rd)?;
+        // The records of the single-ray paths; each writes them before it reads them.
+        let mut best = [Best::none(0.0); MAX_LANES];
         let mut q = ClosestPacket {
             geometry: self,
             su: &su,
-            best,
+            best: &mut best,
             lanes: LaneBest {
                 t: su.t_limit,
                 b1: S::zero(),
@@ -681,8 +700,7 @@ impl Geometry<f32> {
             frustum,
         };
         self.query(&mut q);
-        q.lanes.store(q.best);
-        su.valid
+        Some((su.valid, q.lanes))
     }
 
     /// Is each ray of a packet of `S::LANES` rays blocked: `out[i]` is what
@@ -781,15 +799,32 @@ impl Geometry<f32> {
         rays: &[Option<Ray<f32>>; MAX_LANES],
     ) -> [Option<Intersection<f32>>; MAX_LANES] {
         let mut out = [None; MAX_LANES];
+        self.cast_packet_into(isa, rays, &mut out);
+        out
+    }
+
+    /// [`Geometry::cast_packet`] into `out`, where the caller keeps it: the first
+    /// [`Isa::lanes`] entries are written, the rest left as they are. (An out-parameter,
+    /// as Embree's `rtcIntersect16` writes its caller's hit structure: returned by value,
+    /// the 320-byte array was copied once more per packet.)
+    ///
+    /// # Panics
+    /// If the CPU lacks `isa` ([`Isa::is_available`]) or off x86-64.
+    #[inline]
+    pub fn cast_packet_into(
+        &self,
+        isa: Isa,
+        rays: &[Option<Ray<f32>>; MAX_LANES],
+        out: &mut [Option<Intersection<f32>>; MAX_LANES],
+    ) {
         dispatch(
             isa,
             CastKernel {
                 geometry: self,
                 rays,
-                out: &mut out,
+                out,
             },
         );
-        out
     }
 
     /// Whether each of the first [`Isa::lanes`] rays of `rays` is blocked (`None` lanes
