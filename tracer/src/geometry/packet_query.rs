@@ -97,43 +97,48 @@ impl<S: SimdF32> LaneBest<S> {
         }
     }
 
-    /// Writes each lane's closest hit into `out`: `None` for a lane not in `valid` or
-    /// without a candidate. (The records of [`LaneBest::store`] and the answers in one
-    /// pass.)
+    /// The lanes as arrays, in the order `t`, `b1`, `b2`, `r` (the references' bits);
+    /// [`lane_record`] reads one lane's record out of them.
     #[inline(always)]
-    fn store_found(&self, valid: u32, out: &mut [Option<Intersection<f32>>]) {
+    fn arrays(&self) -> [[f32; MAX_LANES]; 4] {
         let mut v = [[0.0f32; MAX_LANES]; 4];
         self.t.store(&mut v[0]);
         self.b1.store(&mut v[1]);
         self.b2.store(&mut v[2]);
         self.r.store(&mut v[3]);
+        v
+    }
+
+    /// Writes each lane's closest hit into `out`: `None` for a lane not in `valid` or
+    /// without a candidate. (The records of [`LaneBest::store`] and the answers in one
+    /// pass.)
+    #[inline(always)]
+    fn store_found(&self, valid: u32, out: &mut [Option<Intersection<f32>>]) {
+        let v = self.arrays();
         for (l, o) in out[..S::LANES].iter_mut().enumerate() {
-            let r = v[3][l].to_bits();
-            *o = (valid & (1 << l) != 0 && r != NO_HIT).then_some(Intersection(Best {
-                r,
-                t: v[0][l],
-                b1: v[1][l],
-                b2: v[2][l],
-            }));
+            let b = lane_record(&v, l);
+            *o = (valid & (1 << l) != 0 && b.r != NO_HIT).then_some(Intersection(b));
         }
     }
 
     /// Writes the lanes into `best`.
     #[inline(always)]
     fn store(&self, best: &mut [Best<f32>; MAX_LANES]) {
-        let mut v = [[0.0f32; MAX_LANES]; 4];
-        self.t.store(&mut v[0]);
-        self.b1.store(&mut v[1]);
-        self.b2.store(&mut v[2]);
-        self.r.store(&mut v[3]);
+        let v = self.arrays();
         for (l, b) in best[..S::LANES].iter_mut().enumerate() {
-            *b = Best {
-                r: v[3][l].to_bits(),
-                t: v[0][l],
-                b1: v[1][l],
-                b2: v[2][l],
-            };
+            *b = lane_record(&v, l);
         }
+    }
+}
+
+/// Lane `l`'s record out of [`LaneBest::arrays`].
+#[inline(always)]
+fn lane_record(v: &[[f32; MAX_LANES]; 4], l: usize) -> Best<f32> {
+    Best {
+        r: v[3][l].to_bits(),
+        t: v[0][l],
+        b1: v[1][l],
+        b2: v[2][l],
     }
 }
 
