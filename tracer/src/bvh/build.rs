@@ -60,23 +60,21 @@ impl Box4 {
         hi: [f32::NEG_INFINITY, f32::NEG_INFINITY, f32::NEG_INFINITY, 0.0],
     };
 
+    /// Grows to contain `o`: per lane `o < self ? o : self` (the rule of [`Scalar::min`]),
+    /// and likewise for the maxima, on whole registers.
     #[inline(always)]
     fn union(&mut self, o: &Self) {
-        for i in 0..4 {
-            self.lo[i] = Scalar::min(o.lo[i], self.lo[i]);
-            self.hi[i] = Scalar::max(o.hi[i], self.hi[i]);
-        }
+        self.lo = to_lanes(Scalar::min(lanes(o.lo), lanes(self.lo)));
+        self.hi = to_lanes(Scalar::max(lanes(o.hi), lanes(self.hi)));
     }
 
     /// Grows to contain the point `c` (the same rule per lane as [`Bounds3::add_point`],
     /// in one `minps`/`maxps` pair).
     #[inline(always)]
     fn add_point(&mut self, c: &[f32; 3]) {
-        let p = [c[0], c[1], c[2], 0.0];
-        for (i, &x) in p.iter().enumerate() {
-            self.lo[i] = Scalar::min(x, self.lo[i]);
-            self.hi[i] = Scalar::max(x, self.hi[i]);
-        }
+        let p = lanes([c[0], c[1], c[2], 0.0]);
+        self.lo = to_lanes(Scalar::min(p, lanes(self.lo)));
+        self.hi = to_lanes(Scalar::max(p, lanes(self.hi)));
     }
 
     fn to_bounds(self) -> Bounds3 {
@@ -112,6 +110,15 @@ fn lanes(a: [f32; 4]) -> Lanes {
     return Lanes::from_array(a);
     #[cfg(not(target_arch = "x86_64"))]
     return Lanes::from_fn(|i| a[i]);
+}
+
+/// The lanes of `l` as an array.
+#[inline(always)]
+fn to_lanes(l: Lanes) -> [f32; 4] {
+    #[cfg(target_arch = "x86_64")]
+    return l.to_array();
+    #[cfg(not(target_arch = "x86_64"))]
+    return core::array::from_fn(|i| l.lane(i));
 }
 
 /// One step of a sweep: grows the accumulated boxes and counts of the three axes by
@@ -163,6 +170,14 @@ impl BuildPrim {
             centroid: b.centroid(),
             id,
         }
+    }
+
+    /// The centroid in lanes 0 to 2 and the id's bits in lane 3 (one load; what lane 3
+    /// holds is never read).
+    #[inline(always)]
+    fn centroid_lanes(&self) -> Lanes {
+        let c = &self.centroid;
+        lanes([c[0], c[1], c[2], f32::from_bits(self.id)])
     }
 
     /// The bounds.
@@ -385,7 +400,7 @@ impl Bins {
     /// Adds one primitive to its bin on every axis.
     #[inline(always)]
     fn add(&mut self, p: &BuildPrim, m: &BinMap) {
-        let idx = m.bins(&p.centroid);
+        let idx = m.bins(p);
         for (a, &i) in idx.iter().enumerate() {
             self.counts[i][a] += 1;
             self.bounds[a][i].union(&p.bounds);
@@ -452,17 +467,20 @@ fn bin_count(n: usize) -> usize {
     (4 + n / 20).max(n.min(16)).clamp(MIN_BINS, NUM_BINS)
 }
 
-/// The centroid-to-bin mapping of one node.
+/// The centroid-to-bin mapping of one node: the values of [`bin_of`] for the three
+/// axes, in lanes 0 to 2 (lane 3 maps everything to bin 0).
 #[derive(Clone, Copy)]
 struct BinMap {
-    lo: [f32; 3],
-    scale: [f32; 3],
+    lo: Lanes,
+    scale: Lanes,
+    /// `nb - 1` in every lane.
+    top: Lanes,
     nb: usize,
 }
 
 impl BinMap {
     fn new(centroids: &Bounds3, nb: usize) -> Self {
-        let scale = core::array::from_fn(|a| {
+        let scale: [f32; 3] = core::array::from_fn(|a| {
             let extent = centroids.hi[a] - centroids.lo[a];
             if extent > 0.0 && extent.is_finite() {
                 nb as f32 * (1.0 - 1e-6) / extent
@@ -470,32 +488,43 @@ impl BinMap {
                 0.0
             }
         });
+        let lo = centroids.lo;
         Self {
-            lo: centroids.lo,
-            scale,
+            lo: lanes([lo[0], lo[1], lo[2], 0.0]),
+            scale: lanes([scale[0], scale[1], scale[2], 0.0]),
+            top: Lanes::splat((nb - 1) as f32),
             nb,
         }
     }
 
-    /// The bins of centroid `c` on the three axes (the same as [`bin_of`] per axis,
-    /// written lane by lane over four lanes so that it compiles to packed instructions).
-    #[inline(always)]
-    fn bins(&self, c: &[f32; 3]) -> [usize; 3] {
-        let top = (self.nb - 1) as f32;
-        let c = [c[0], c[1], c[2], 0.0];
-        let lo = [self.lo[0], self.lo[1], self.lo[2], 0.0];
-        let k = [self.scale[0], self.scale[1], self.scale[2], 0.0];
-        let mut out = [0usize; 4];
-        for a in 0..4 {
-            let v = (c[a] - lo[a]) * k[a];
-            let v = if v > 0.0 { v } else { 0.0 };
-            let v = if v < top { v } else { top };
-            // SAFETY: as in `bin_of`, `v` is not NaN and lies in `[0, nb - 1]`.
-            let i = unsafe { v.to_int_unchecked::<i32>() } as usize;
-            out[a] = i & (NUM_BINS - 1);
-        }
-        [out[0], out[1], out[2]]
+    /// The scale of `axis`.
+    fn scale(&self, axis: usize) -> f32 {
+        self.scale.lane(axis)
     }
+
+    /// The bins of primitive `p` on the three axes: [`bin_of`] over the lanes, with the
+    /// same operations in the same order (`maxps` and `minps` follow its comparisons,
+    /// NaN included).
+    #[inline(always)]
+    fn bins(&self, p: &BuildPrim) -> [usize; 3] {
+        // Lane 3 holds the id's bits, which may be a subnormal or a NaN: it is zeroed
+        // before any arithmetic (a subnormal operand can be slow).
+        let c = Scalar::select(lane3_off(), p.centroid_lanes(), Lanes::zero());
+        let v = (c - self.lo) * self.scale;
+        let v = Scalar::min(Scalar::max(v, Lanes::zero()), self.top);
+        let v = to_lanes(v);
+        core::array::from_fn(|a| {
+            // SAFETY: as in `bin_of`, `v[a]` is not NaN and lies in `[0, nb - 1]`.
+            let i = unsafe { v[a].to_int_unchecked::<i32>() } as usize;
+            i & (NUM_BINS - 1)
+        })
+    }
+}
+
+/// The mask of lanes 0 to 2.
+#[inline(always)]
+fn lane3_off() -> <Lanes as Scalar>::Mask {
+    Lanes::splat(1.0).lt(lanes([2.0, 2.0, 2.0, 0.0]))
 }
 
 /// Per-thread working memory of [`split`], reused across nodes: clearing 96 bins for
@@ -612,8 +641,8 @@ fn split(
             return None;
         }
         if split_cost.is_finite() || !may_be_leaf {
-            let (cmin, k) = (centroids.lo[axis], map.scale[axis]);
-            let (mid, lc, rc) = partition(prims, |p| bin_of(p.centroid[axis], cmin, k, nb) <= bin);
+            let (cmin, k) = (centroids.lo[axis], map.scale(axis));
+            let (mid, lc, rc) = partition(prims, axis, (cmin, k, nb), bin);
             debug_assert!(mid > 0 && mid < n);
             let (mut lb, mut rb) = (Box4::EMPTY, Box4::EMPTY);
             for b in &scratch.bins.bounds[axis][..=bin] {
@@ -711,29 +740,51 @@ fn median_split(prims: &mut [BuildPrim], centroids: &Bounds3) -> (usize, Extent,
     (mid, measure(&prims[..mid]), measure(&prims[mid..]))
 }
 
-/// Moves the elements satisfying `left` to the front; returns how many there are and
+/// Moves the primitives whose centroid falls into bins `0..=bin` of `axis` (by
+/// [`bin_of`] with `cmin`, `k` and `nb`) to the front; returns how many there are and
 /// the centroid bounds of both groups.
+///
+/// The mapping's values are copies, not references, and the centroid bounds stay in
+/// registers: written as a closure over the caller's values, the loop reloaded them
+/// (and converted `nb - 1` to `f32` again) at every primitive, and moved the bounds
+/// through shuffles, about 44 instructions a primitive (callgrind, balls-s6).
 fn partition(
     prims: &mut [BuildPrim],
-    left: impl Fn(&BuildPrim) -> bool,
+    axis: usize,
+    (cmin, k, nb): (f32, f32, usize),
+    bin: usize,
 ) -> (usize, Bounds3, Bounds3) {
-    let (mut lc, mut rc) = (Box4::EMPTY, Box4::EMPTY);
+    assert!(axis < 3, "an axis of three");
+    let left = move |p: &BuildPrim| bin_of(p.centroid[axis], cmin, k, nb) <= bin;
+    let empty = Box4::EMPTY;
+    let (mut l_lo, mut l_hi) = (lanes(empty.lo), lanes(empty.hi));
+    let (mut r_lo, mut r_hi) = (l_lo, l_hi);
     let (mut i, mut j) = (0, prims.len());
     loop {
         while i < j && left(&prims[i]) {
-            lc.add_point(&prims[i].centroid);
+            let c = prims[i].centroid_lanes();
+            (l_lo, l_hi) = (Scalar::min(c, l_lo), Scalar::max(c, l_hi));
             i += 1;
         }
         while i < j && !left(&prims[j - 1]) {
-            rc.add_point(&prims[j - 1].centroid);
+            let c = prims[j - 1].centroid_lanes();
+            (r_lo, r_hi) = (Scalar::min(c, r_lo), Scalar::max(c, r_hi));
             j -= 1;
         }
         if i >= j {
-            return (i, lc.to_bounds(), rc.to_bounds());
+            let bounds = |lo: Lanes, hi: Lanes| {
+                let (lo, hi) = (to_lanes(lo), to_lanes(hi));
+                Bounds3 {
+                    lo: [lo[0], lo[1], lo[2]],
+                    hi: [hi[0], hi[1], hi[2]],
+                }
+            };
+            return (i, bounds(l_lo, l_hi), bounds(r_lo, r_hi));
         }
         prims.swap(i, j - 1);
-        lc.add_point(&prims[i].centroid);
-        rc.add_point(&prims[j - 1].centroid);
+        let (c, d) = (prims[i].centroid_lanes(), prims[j - 1].centroid_lanes());
+        (l_lo, l_hi) = (Scalar::min(c, l_lo), Scalar::max(c, l_hi));
+        (r_lo, r_hi) = (Scalar::min(d, r_lo), Scalar::max(d, r_hi));
         i += 1;
         j -= 1;
     }
@@ -885,11 +936,17 @@ mod tests {
         for axis in 0..3 {
             let mut counts = [0u32; NUM_BINS];
             for p in &prims {
-                counts[map.bins(&p.centroid)[axis]] += 1;
+                let lo = map.lo.lane(axis);
+                counts[map.bins(p)[axis]] += 1;
                 assert_eq!(
-                    map.bins(&p.centroid)[axis],
-                    bin_of(p.centroid[axis], map.lo[axis], map.scale[axis], NUM_BINS)
+                    map.bins(p)[axis],
+                    bin_of(p.centroid[axis], lo, map.scale(axis), NUM_BINS)
                 );
+                // The id's bits, read with the centroid, never reach a bin: not as a
+                // NaN, an infinity or a subnormal.
+                for id in [0x7fc0_0001, 0xff80_0000, 1, u32::MAX] {
+                    assert_eq!(map.bins(&BuildPrim { id, ..*p }), map.bins(p));
+                }
             }
             let binned: [u32; NUM_BINS] = core::array::from_fn(|i| a.bins.counts[i][axis]);
             assert_eq!(counts, binned);
