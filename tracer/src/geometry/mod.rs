@@ -119,7 +119,7 @@ use crate::float::Float;
 use crate::ray::{Hit, Ray};
 use crate::scene::desc::ShapeDesc;
 use query::RayQuery;
-use ray_data::RayData;
+use ray_data::{RayData, Shear};
 use std::time::Instant;
 use storage::{make_ref, Prims, CONE, INDEX_MASK, NO_SHADING, PLANE, SPHERE, TAG_SHIFT, TRIANGLE};
 use vecexpr::{Expr, Real, Vec3};
@@ -363,6 +363,29 @@ pub struct Geometry<T: Real> {
     triangle_test: TriangleTest,
     bounds: Aabb<T>,
     stats: GeometryStats,
+}
+
+/// Runs `$body` with `$kz` the constant shear axis of `$ray` ([`Shear::kz`]), one
+/// compilation of the body per axis: inlined into each arm, the single-ray walk reads
+/// every vertex coordinate of the triangle tests at a constant offset, instead of
+/// through ten addresses made per ray.
+macro_rules! by_axis {
+    ($ray:expr, $kz:ident => $body:expr) => {
+        match Shear::kz(&$ray.dir) {
+            0 => {
+                let $kz = 0;
+                $body
+            }
+            1 => {
+                let $kz = 1;
+                $body
+            }
+            _ => {
+                let $kz = 2;
+                $body
+            }
+        }
+    };
 }
 
 impl<T: Float> Geometry<T> {
@@ -671,7 +694,7 @@ impl<T: Float> Geometry<T> {
         ray: &Ray<T>,
         hint: &mut u32,
     ) -> bool {
-        self.any_hint_in::<WATERTIGHT, KINDS, false>(ray, hint)
+        self.any_hint_in::<WATERTIGHT, KINDS, false>(ray, hint, Shear::kz(&ray.dir))
     }
 
     /// [`Geometry::any_hint`] over the eight-wide tree, compiled for AVX2.
@@ -686,7 +709,7 @@ impl<T: Float> Geometry<T> {
         ray: &Ray<T>,
         hint: &mut u32,
     ) -> bool {
-        self.any_hint_in::<WATERTIGHT, KINDS, true>(ray, hint)
+        by_axis!(ray, kz => self.any_hint_in::<WATERTIGHT, KINDS, true>(ray, hint, kz))
     }
 
     /// [`Geometry::any_hint_avx2`] compiled for AVX-512VL too (see
@@ -702,7 +725,7 @@ impl<T: Float> Geometry<T> {
         ray: &Ray<T>,
         hint: &mut u32,
     ) -> bool {
-        self.any_hint_in::<WATERTIGHT, KINDS, true>(ray, hint)
+        by_axis!(ray, kz => self.any_hint_in::<WATERTIGHT, KINDS, true>(ray, hint, kz))
     }
 
     #[inline(always)]
@@ -710,8 +733,9 @@ impl<T: Float> Geometry<T> {
         &self,
         ray: &Ray<T>,
         hint: &mut u32,
+        kz: usize,
     ) -> bool {
-        let Some(rd) = RayData::new(ray) else {
+        let Some(rd) = RayData::along(ray, kz) else {
             return false;
         };
         let cached = *hint;
@@ -964,7 +988,7 @@ impl<T: Float> Geometry<T> {
         &self,
         ray: &Ray<T>,
     ) -> Option<Best<T>> {
-        self.closest_best_in::<WATERTIGHT, KINDS, false>(ray)
+        self.closest_best_in::<WATERTIGHT, KINDS, false>(ray, Shear::kz(&ray.dir))
     }
 
     /// [`Geometry::closest_best`] over the eight-wide tree, compiled for AVX2.
@@ -979,7 +1003,7 @@ impl<T: Float> Geometry<T> {
         &self,
         ray: &Ray<T>,
     ) -> Option<Best<T>> {
-        self.closest_best_in::<WATERTIGHT, KINDS, true>(ray)
+        by_axis!(ray, kz => self.closest_best_in::<WATERTIGHT, KINDS, true>(ray, kz))
     }
 
     /// [`Geometry::closest_best_avx2`] compiled for AVX-512VL too: the same operations
@@ -1004,7 +1028,7 @@ impl<T: Float> Geometry<T> {
         &self,
         ray: &Ray<T>,
     ) -> Option<Best<T>> {
-        self.closest_best_in::<WATERTIGHT, KINDS, true>(ray)
+        by_axis!(ray, kz => self.closest_best_in::<WATERTIGHT, KINDS, true>(ray, kz))
     }
 
     /// [`Geometry::closest_best`] over the eight-wide tree (`EIGHT`, see [`RayQuery`])
@@ -1013,8 +1037,9 @@ impl<T: Float> Geometry<T> {
     fn closest_best_in<const WATERTIGHT: bool, const KINDS: u32, const EIGHT: bool>(
         &self,
         ray: &Ray<T>,
+        kz: usize,
     ) -> Option<Best<T>> {
-        let rd = RayData::new(ray)?;
+        let rd = RayData::along(ray, kz)?;
         let mut best = Best::none(rd.t_limit);
         self.query(&mut RayQuery::<T, false, WATERTIGHT, KINDS, EIGHT> {
             g: self,
@@ -1048,7 +1073,7 @@ impl<T: Float> Geometry<T> {
     /// [`Geometry::closest_best_four`]).
     #[inline(never)]
     fn any_four<const WATERTIGHT: bool, const KINDS: u32>(&self, ray: &Ray<T>) -> bool {
-        self.any_in::<WATERTIGHT, KINDS, false>(ray)
+        self.any_in::<WATERTIGHT, KINDS, false>(ray, Shear::kz(&ray.dir))
     }
 
     /// [`Geometry::any`] over the eight-wide tree, compiled for AVX2.
@@ -1059,7 +1084,7 @@ impl<T: Float> Geometry<T> {
     #[target_feature(enable = "avx2,fma")]
     #[inline(never)]
     unsafe fn any_avx2<const WATERTIGHT: bool, const KINDS: u32>(&self, ray: &Ray<T>) -> bool {
-        self.any_in::<WATERTIGHT, KINDS, true>(ray)
+        by_axis!(ray, kz => self.any_in::<WATERTIGHT, KINDS, true>(ray, kz))
     }
 
     /// [`Geometry::any_avx2`] compiled for AVX-512VL too (see
@@ -1071,15 +1096,16 @@ impl<T: Float> Geometry<T> {
     #[target_feature(enable = "avx2,fma,avx512f,avx512vl")]
     #[inline(never)]
     unsafe fn any_avx512<const WATERTIGHT: bool, const KINDS: u32>(&self, ray: &Ray<T>) -> bool {
-        self.any_in::<WATERTIGHT, KINDS, true>(ray)
+        by_axis!(ray, kz => self.any_in::<WATERTIGHT, KINDS, true>(ray, kz))
     }
 
     #[inline(always)]
     fn any_in<const WATERTIGHT: bool, const KINDS: u32, const EIGHT: bool>(
         &self,
         ray: &Ray<T>,
+        kz: usize,
     ) -> bool {
-        let Some(rd) = RayData::new(ray) else {
+        let Some(rd) = RayData::along(ray, kz) else {
             return false;
         };
         self.any_query::<WATERTIGHT, KINDS, EIGHT>(&rd).0

@@ -279,8 +279,7 @@ impl<'a, S: SimdF32> Setup<'a, S> {
             }
         }
         // The shear when every valid ray has the same axes: `Shear::axes` is fixed by
-        // which of $|d|$ is largest and by the sign of that component, so the lanes
-        // agree when those masks do.
+        // which of $|d|$ is largest, so the lanes agree when those masks do.
         let a = [dir[0].abs(), dir[1].abs(), dir[2].abs()];
         let (g01, g02, g12) = (a[0].gt(a[1]), a[0].gt(a[2]), a[1].gt(a[2]));
         let kz0 = g01.and(g02).bitmask() & valid;
@@ -292,8 +291,7 @@ impl<'a, S: SimdF32> Setup<'a, S> {
             buf[row::DIR + 2][fl],
         ));
         let uniform = |m: u32| m == 0 || m == valid;
-        let same_axes =
-            uniform(kz0) && uniform(kz1) && uniform(dir[k.2].lt(S::zero()).bitmask() & valid);
+        let same_axes = uniform(kz0) && uniform(kz1);
         // Not `same_axes.then(|| ..)`: a closure left out of line is compiled without
         // the caller's instruction set, and its vector divisions and products became
         // calls (`_mm256_div_ps`, `_mm256_mul_ps`).

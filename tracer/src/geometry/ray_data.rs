@@ -8,9 +8,16 @@ use vecexpr::simd::SimdF32;
 use vecexpr::{Expr, Real, Vec3};
 
 /// The shear that maps the ray to the +z axis for the watertight triangle test (Woop,
-/// Benthin, Wald 2013, section 3): `kz` is the axis of largest $|d|$, `kx`, `ky` the other
-/// two (swapped when $d_{kz} < 0$ to keep the winding), and
-/// $S = (d_{kx}/d_{kz}, d_{ky}/d_{kz}, 1/d_{kz})$.
+/// Benthin, Wald 2013, section 3): `kz` is the axis of largest $|d|$, `kx`, `ky` the
+/// next two in cyclic order, and $S = (d_{kx}/d_{kz}, d_{ky}/d_{kz}, 1/d_{kz})$.
+///
+/// The paper swaps `kx` and `ky` when $d_{kz} < 0$ to keep the winding; the tests here
+/// are two-sided, and the swap only negates the edge functions, the determinant and
+/// the scaled distance (each a difference or sum of the same products), so without it
+/// the hits are the same and their distances and barycentrics too, up to the sign of a
+/// zero (a ray through a vertex has $b_1 = -0$ where the swap gave $+0$, or the
+/// reverse); the axes then depend on `kz` alone. (`triangle`'s test
+/// `the_winding_swap_changes_no_answer` checks it.)
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Shear<T: Real> {
     pub kx: usize,
@@ -22,9 +29,10 @@ pub(crate) struct Shear<T: Real> {
 }
 
 impl<T: Real> Shear<T> {
+    /// The shear of direction `d` along axis `kz` (which [`Shear::kz`] chooses).
     #[inline(always)]
-    fn new(d: &Vec3<T>) -> Self {
-        let (kx, ky, kz) = Self::axes(d);
+    fn along(d: &Vec3<T>, kz: usize) -> Self {
+        let (kx, ky, kz) = Self::axes_of(kz);
         let sz = d[kz].recip();
         Self {
             kx,
@@ -36,11 +44,12 @@ impl<T: Real> Shear<T> {
         }
     }
 
-    /// The axes `(kx, ky, kz)` of the shear of direction `d`.
+    /// The axis of largest $|d|$ (of equal ones the later, as the comparisons fall;
+    /// some axis for NaN).
     #[inline(always)]
-    pub(crate) fn axes(d: &Vec3<T>) -> (usize, usize, usize) {
+    pub(crate) fn kz(d: &Vec3<T>) -> usize {
         let a = [d[0].abs(), d[1].abs(), d[2].abs()];
-        let kz = if a[0] > a[1] {
+        if a[0] > a[1] {
             if a[0] > a[2] {
                 0
             } else {
@@ -50,13 +59,22 @@ impl<T: Real> Shear<T> {
             1
         } else {
             2
-        };
-        let mut kx = if kz == 2 { 0 } else { kz + 1 };
-        let mut ky = if kx == 2 { 0 } else { kx + 1 };
-        if d[kz] < T::ZERO {
-            core::mem::swap(&mut kx, &mut ky);
         }
+    }
+
+    /// `(kx, ky, kz)` for the shear along `kz`.
+    #[inline(always)]
+    fn axes_of(kz: usize) -> (usize, usize, usize) {
+        let kz = kz.min(2);
+        let kx = if kz == 2 { 0 } else { kz + 1 };
+        let ky = if kx == 2 { 0 } else { kx + 1 };
         (kx, ky, kz)
+    }
+
+    /// The axes `(kx, ky, kz)` of the shear of direction `d`.
+    #[inline(always)]
+    pub(crate) fn axes(d: &Vec3<T>) -> (usize, usize, usize) {
+        Self::axes_of(Self::kz(d))
     }
 }
 
@@ -116,6 +134,15 @@ impl<T: Real> RayData<T> {
     /// empty interval.
     #[inline(always)]
     pub fn new(ray: &Ray<T>) -> Option<Self> {
+        Self::along(ray, Shear::kz(&ray.dir))
+    }
+
+    /// [`RayData::new`] with the shear along axis `kz`, which must be
+    /// `Shear::kz(&ray.dir)`: the single-ray walks choose the axis first and are
+    /// compiled once per axis, so that every vertex coordinate the triangle tests read
+    /// sits at a constant offset.
+    #[inline(always)]
+    pub fn along(ray: &Ray<T>, kz: usize) -> Option<Self> {
         // `x * 0` is zero for finite `x` and NaN for an infinite or NaN one, so the sum
         // of the three products is zero exactly when every coordinate of the origin is
         // finite: one test instead of three. The direction needs no such test: an
@@ -131,7 +158,7 @@ impl<T: Real> RayData<T> {
             return None;
         }
         let t_min = ray.t_min;
-        let shear = Shear::new(&ray.dir);
+        let shear = Shear::along(&ray.dir, kz);
         Some(Self {
             origin: ray.origin,
             dir: ray.dir,
@@ -196,12 +223,15 @@ mod tests {
 
     #[test]
     fn shear_axes() {
-        let s = Shear::new(&vec3(0.1f32, -0.2, 0.9));
+        let new = |d: Vec3<f64>| Shear::along(&d, Shear::kz(&d));
+        let s = new(vec3(0.1, -0.2, 0.9));
         assert_eq!((s.kx, s.ky, s.kz), (0, 1, 2));
-        let s = Shear::new(&vec3(0.1f32, -0.2, -0.9));
-        assert_eq!((s.kx, s.ky, s.kz), (1, 0, 2));
-        let s = Shear::new(&vec3(-3.0f64, 1.0, 1.0));
-        assert_eq!((s.kx, s.ky, s.kz), (2, 1, 0));
+        let s = new(vec3(0.1, -0.2, -0.9));
+        assert_eq!((s.kx, s.ky, s.kz), (0, 1, 2));
+        let s = new(vec3(0.1, -0.95, -0.9));
+        assert_eq!((s.kx, s.ky, s.kz), (2, 0, 1));
+        let s = new(vec3(-3.0f64, 1.0, 1.0));
+        assert_eq!((s.kx, s.ky, s.kz), (1, 2, 0));
         assert_eq!(s.sz, -1.0 / 3.0);
     }
 
