@@ -365,25 +365,32 @@ pub struct Geometry<T: Real> {
     stats: GeometryStats,
 }
 
-/// Runs `$body` with `$kz` the constant shear axis of `$ray` ([`Shear::kz`]), one
-/// compilation of the body per axis: inlined into each arm, the single-ray walk reads
-/// every vertex coordinate of the triangle tests at a constant offset, instead of
-/// through ten addresses made per ray.
+/// Runs `$body` with `$kz` the shear axis of `$ray` ([`Shear::kz`]). Where the walk
+/// can meet watertight triangle tests in `f32` (the const generics `$watertight`,
+/// `$kinds` and `$t`), the body is compiled once per axis with `$kz` a constant:
+/// inlined into each arm, the single-ray walk reads every vertex coordinate of the
+/// triangle tests at a constant offset, instead of through ten addresses made per ray.
+/// Elsewhere the axis plays no part, and one compilation takes it as a value.
 macro_rules! by_axis {
-    ($ray:expr, $kz:ident => $body:expr) => {
-        match Shear::kz(&$ray.dir) {
-            0 => {
-                let $kz = 0;
-                $body
+    ($watertight:expr, $kinds:expr, $t:ty, $ray:expr, $kz:ident => $body:expr) => {
+        if $watertight && $kinds & kinds::TRIANGLES != 0 && <$t as Float>::AS_F32.is_some() {
+            match Shear::kz(&$ray.dir) {
+                0 => {
+                    let $kz = 0;
+                    $body
+                }
+                1 => {
+                    let $kz = 1;
+                    $body
+                }
+                _ => {
+                    let $kz = 2;
+                    $body
+                }
             }
-            1 => {
-                let $kz = 1;
-                $body
-            }
-            _ => {
-                let $kz = 2;
-                $body
-            }
+        } else {
+            let $kz = Shear::kz(&$ray.dir);
+            $body
         }
     };
 }
@@ -709,7 +716,7 @@ impl<T: Float> Geometry<T> {
         ray: &Ray<T>,
         hint: &mut u32,
     ) -> bool {
-        by_axis!(ray, kz => self.any_hint_in::<WATERTIGHT, KINDS, true>(ray, hint, kz))
+        by_axis!(WATERTIGHT, KINDS, T, ray, kz => self.any_hint_in::<WATERTIGHT, KINDS, true>(ray, hint, kz))
     }
 
     /// [`Geometry::any_hint_avx2`] compiled for AVX-512VL too (see
@@ -725,7 +732,7 @@ impl<T: Float> Geometry<T> {
         ray: &Ray<T>,
         hint: &mut u32,
     ) -> bool {
-        by_axis!(ray, kz => self.any_hint_in::<WATERTIGHT, KINDS, true>(ray, hint, kz))
+        by_axis!(WATERTIGHT, KINDS, T, ray, kz => self.any_hint_in::<WATERTIGHT, KINDS, true>(ray, hint, kz))
     }
 
     #[inline(always)]
@@ -1003,7 +1010,7 @@ impl<T: Float> Geometry<T> {
         &self,
         ray: &Ray<T>,
     ) -> Option<Best<T>> {
-        by_axis!(ray, kz => self.closest_best_in::<WATERTIGHT, KINDS, true>(ray, kz))
+        by_axis!(WATERTIGHT, KINDS, T, ray, kz => self.closest_best_in::<WATERTIGHT, KINDS, true>(ray, kz))
     }
 
     /// [`Geometry::closest_best_avx2`] compiled for AVX-512VL too: the same operations
@@ -1028,7 +1035,7 @@ impl<T: Float> Geometry<T> {
         &self,
         ray: &Ray<T>,
     ) -> Option<Best<T>> {
-        by_axis!(ray, kz => self.closest_best_in::<WATERTIGHT, KINDS, true>(ray, kz))
+        by_axis!(WATERTIGHT, KINDS, T, ray, kz => self.closest_best_in::<WATERTIGHT, KINDS, true>(ray, kz))
     }
 
     /// [`Geometry::closest_best`] over the eight-wide tree (`EIGHT`, see [`RayQuery`])
@@ -1084,7 +1091,7 @@ impl<T: Float> Geometry<T> {
     #[target_feature(enable = "avx2,fma")]
     #[inline(never)]
     unsafe fn any_avx2<const WATERTIGHT: bool, const KINDS: u32>(&self, ray: &Ray<T>) -> bool {
-        by_axis!(ray, kz => self.any_in::<WATERTIGHT, KINDS, true>(ray, kz))
+        by_axis!(WATERTIGHT, KINDS, T, ray, kz => self.any_in::<WATERTIGHT, KINDS, true>(ray, kz))
     }
 
     /// [`Geometry::any_avx2`] compiled for AVX-512VL too (see
@@ -1096,7 +1103,7 @@ impl<T: Float> Geometry<T> {
     #[target_feature(enable = "avx2,fma,avx512f,avx512vl")]
     #[inline(never)]
     unsafe fn any_avx512<const WATERTIGHT: bool, const KINDS: u32>(&self, ray: &Ray<T>) -> bool {
-        by_axis!(ray, kz => self.any_in::<WATERTIGHT, KINDS, true>(ray, kz))
+        by_axis!(WATERTIGHT, KINDS, T, ray, kz => self.any_in::<WATERTIGHT, KINDS, true>(ray, kz))
     }
 
     #[inline(always)]
