@@ -219,6 +219,15 @@ pub struct Box8Ray<T: Float> {
 #[cfg(target_arch = "x86_64")]
 use vecexpr::simd::F32x8;
 
+/// Each component of `v` in all eight lanes. Written out rather than through
+/// `array::map`, which the compiler may leave out of line, compiled for the baseline and
+/// calling the broadcast intrinsic there instead of inlining it into the AVX2 walk.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn splat3(v: [f32; 3]) -> [F32x8; 3] {
+    [F32x8::splat(v[0]), F32x8::splat(v[1]), F32x8::splat(v[2])]
+}
+
 #[cfg(target_arch = "x86_64")]
 impl<T: Float> Box8Ray<T> {
     /// The prepared form of `ray` (`proof` that `T` is `f32`).
@@ -229,9 +238,9 @@ impl<T: Float> Box8Ray<T> {
         let side = ray.neg.map(usize::from);
         Self {
             proof,
-            origin: ray.origin.map(F32x8::splat),
-            inv_dir: ray.inv_dir.map(F32x8::splat),
-            inv_far: ray.inv_far.map(F32x8::splat),
+            origin: splat3(ray.origin),
+            inv_dir: splat3(ray.inv_dir),
+            inv_far: splat3(ray.inv_far),
             t_min: F32x8::splat(ray.t_min),
             slack: ray.slack,
             near: [0, 1, 2].map(|a| row_offset::<WIDTH8>(side[a], a)),
