@@ -166,6 +166,37 @@ const fn kind_in<const KINDS: u32>(tag: u32) -> bool {
     KINDS & (1 << tag) != 0
 }
 
+/// The kinds of mask `K`, its bits above [`kinds::ALL`] cleared (an effect set names its
+/// effects there), as a constant of its own.
+struct KindsOnly<const K: u32>;
+
+impl<const K: u32> KindsOnly<K> {
+    const MASK: u32 = K & kinds::ALL;
+}
+
+/// Runs `$body` with `$k` the constant [`KindsOnly`]`::<$kinds>::MASK`, so that the
+/// queries taking a mask are compiled once per set of kinds and not once per effect
+/// set that has the same kinds (eight effect sets name four sets of kinds). The match
+/// is on a constant: only its one arm is compiled.
+macro_rules! kinds_only {
+    ($kinds:ident, $k:ident => $body:expr) => {
+        kinds_only!(@arms KindsOnly::<$kinds>::MASK, $k, $body;
+            0 1 2 3 4 5 6 7 8 9 10 11 12 13 14)
+    };
+    (@arms $mask:expr, $k:ident, $body:expr; $($m:literal)*) => {
+        match $mask {
+            $($m => {
+                const $k: u32 = $m;
+                $body
+            })*
+            _ => {
+                const $k: u32 = kinds::ALL;
+                $body
+            }
+        }
+    };
+}
+
 /// Which ray/triangle test to use.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum TriangleTest {
@@ -615,7 +646,7 @@ impl<T: Float> Geometry<T> {
     pub fn intersect_kinds<const KINDS: u32>(&self, ray: &Ray<T>) -> Option<Hit<T>> {
         debug_assert_eq!(self.kinds() & !KINDS, 0, "primitive kinds left out");
         match self.triangle_test {
-            TriangleTest::Watertight => self.closest::<true, KINDS>(ray),
+            TriangleTest::Watertight => kinds_only!(KINDS, K => self.closest::<true, K>(ray)),
             TriangleTest::MollerTrumbore => self.closest_moller_trumbore(ray),
         }
     }
@@ -626,7 +657,7 @@ impl<T: Float> Geometry<T> {
     pub fn occluded_kinds<const KINDS: u32>(&self, ray: &Ray<T>) -> bool {
         debug_assert_eq!(self.kinds() & !KINDS, 0, "primitive kinds left out");
         match self.triangle_test {
-            TriangleTest::Watertight => self.any::<true, KINDS>(ray),
+            TriangleTest::Watertight => kinds_only!(KINDS, K => self.any::<true, K>(ray)),
             TriangleTest::MollerTrumbore => self.any_moller_trumbore(ray),
         }
     }
@@ -643,7 +674,9 @@ impl<T: Float> Geometry<T> {
     pub fn occluded_hint_kinds<const KINDS: u32>(&self, ray: &Ray<T>, hint: &mut u32) -> bool {
         debug_assert_eq!(self.kinds() & !KINDS, 0, "primitive kinds left out");
         match self.triangle_test {
-            TriangleTest::Watertight => self.any_hint::<true, KINDS>(ray, hint),
+            TriangleTest::Watertight => {
+                kinds_only!(KINDS, K => self.any_hint::<true, K>(ray, hint))
+            }
             TriangleTest::MollerTrumbore => self.any_hint_moller_trumbore(ray, hint),
         }
     }
