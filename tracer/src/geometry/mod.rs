@@ -396,31 +396,56 @@ pub struct Geometry<T: Real> {
     stats: GeometryStats,
 }
 
-/// Runs `$body` with `$kz` the shear axis of `$ray` ([`Shear::kz`]). Where the walk
-/// can meet watertight triangle tests in `f32` (the const generics `$watertight`,
-/// `$kinds` and `$t`), the body is compiled once per axis with `$kz` a constant:
-/// inlined into each arm, the single-ray walk reads every vertex coordinate of the
-/// triangle tests at a constant offset, instead of through ten addresses made per ray.
-/// Elsewhere the axis plays no part, and one compilation takes it as a value.
+/// Whether the single-ray walks for `T`, `WATERTIGHT` and `KINDS` are compiled once per
+/// shear axis: only where they can meet watertight triangle tests in `f32`. Spheres-only
+/// walks, Möller–Trumbore and `f64` gain nothing from a constant axis.
+struct AxisWalks<T, const WATERTIGHT: bool, const KINDS: u32>(std::marker::PhantomData<T>);
+
+impl<T: Float, const WATERTIGHT: bool, const KINDS: u32> AxisWalks<T, WATERTIGHT, KINDS> {
+    const PER_AXIS: bool = WATERTIGHT && KINDS & kinds::TRIANGLES != 0 && T::AS_F32.is_some();
+}
+
+/// The `KZ` of a walk compiled for every axis, which takes the ray's axis as a value.
+const ANY_AXIS: usize = 3;
+
+/// The shear axis of direction `d` for a walk compiled for axis `KZ`: `KZ` itself, a
+/// constant, or [`Shear::kz`] for [`ANY_AXIS`].
+#[inline(always)]
+fn axis_for<T: Real, const KZ: usize>(d: &Vec3<T>) -> usize {
+    if KZ < ANY_AXIS {
+        KZ
+    } else {
+        Shear::kz(d)
+    }
+}
+
+/// Runs `$body` with `$kz` a constant: the shear axis of `$ray` ([`Shear::kz`]) where
+/// [`AxisWalks::PER_AXIS`] holds for `$t`, `$watertight` and `$kinds`, [`ANY_AXIS`]
+/// elsewhere. `$body` calls a walk compiled for axis `$kz`, out of line: each axis gets
+/// a function of its own, in which the single-ray walk reads every vertex coordinate of
+/// the triangle tests at a constant offset, instead of through ten addresses made per
+/// ray. (Inlined into one function, the three walks made it three times as large, and
+/// the optimiser's time grew faster than its size.) Both tests are on constants, so
+/// only the functions called are compiled.
 macro_rules! by_axis {
     ($watertight:expr, $kinds:expr, $t:ty, $ray:expr, $kz:ident => $body:expr) => {
-        if $watertight && $kinds & kinds::TRIANGLES != 0 && <$t as Float>::AS_F32.is_some() {
+        if AxisWalks::<$t, $watertight, $kinds>::PER_AXIS {
             match Shear::kz(&$ray.dir) {
                 0 => {
-                    let $kz = 0;
+                    const $kz: usize = 0;
                     $body
                 }
                 1 => {
-                    let $kz = 1;
+                    const $kz: usize = 1;
                     $body
                 }
                 _ => {
-                    let $kz = 2;
+                    const $kz: usize = 2;
                     $body
                 }
             }
         } else {
-            let $kz = Shear::kz(&$ray.dir);
+            const $kz: usize = ANY_AXIS;
             $body
         }
     };
@@ -749,7 +774,25 @@ impl<T: Float> Geometry<T> {
         ray: &Ray<T>,
         hint: &mut u32,
     ) -> bool {
-        by_axis!(WATERTIGHT, KINDS, T, ray, kz => self.any_hint_in::<WATERTIGHT, KINDS, true>(ray, hint, kz))
+        // SAFETY: the same CPU features and geometry as this function's.
+        by_axis!(WATERTIGHT, KINDS, T, ray, KZ => unsafe {
+            self.any_hint_avx2_along::<WATERTIGHT, KINDS, KZ>(ray, hint)
+        })
+    }
+
+    /// [`Geometry::any_hint_avx2`] for shear axis `KZ` ([`by_axis!`]).
+    ///
+    /// # Safety
+    /// As for [`Geometry::any_hint_avx2`]; `KZ` is the ray's [`Shear::kz`] or [`ANY_AXIS`].
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    #[inline(never)]
+    unsafe fn any_hint_avx2_along<const WATERTIGHT: bool, const KINDS: u32, const KZ: usize>(
+        &self,
+        ray: &Ray<T>,
+        hint: &mut u32,
+    ) -> bool {
+        self.any_hint_in::<WATERTIGHT, KINDS, true>(ray, hint, axis_for::<T, KZ>(&ray.dir))
     }
 
     /// [`Geometry::any_hint_avx2`] compiled for AVX-512VL too (see
@@ -765,7 +808,25 @@ impl<T: Float> Geometry<T> {
         ray: &Ray<T>,
         hint: &mut u32,
     ) -> bool {
-        by_axis!(WATERTIGHT, KINDS, T, ray, kz => self.any_hint_in::<WATERTIGHT, KINDS, true>(ray, hint, kz))
+        // SAFETY: the same CPU features and geometry as this function's.
+        by_axis!(WATERTIGHT, KINDS, T, ray, KZ => unsafe {
+            self.any_hint_avx512_along::<WATERTIGHT, KINDS, KZ>(ray, hint)
+        })
+    }
+
+    /// [`Geometry::any_hint_avx512`] for shear axis `KZ` ([`by_axis!`]).
+    ///
+    /// # Safety
+    /// As for [`Geometry::any_hint_avx512`]; `KZ` is the ray's [`Shear::kz`] or [`ANY_AXIS`].
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma,avx512f,avx512vl")]
+    #[inline(never)]
+    unsafe fn any_hint_avx512_along<const WATERTIGHT: bool, const KINDS: u32, const KZ: usize>(
+        &self,
+        ray: &Ray<T>,
+        hint: &mut u32,
+    ) -> bool {
+        self.any_hint_in::<WATERTIGHT, KINDS, true>(ray, hint, axis_for::<T, KZ>(&ray.dir))
     }
 
     #[inline(always)]
@@ -1043,7 +1104,24 @@ impl<T: Float> Geometry<T> {
         &self,
         ray: &Ray<T>,
     ) -> Option<Best<T>> {
-        by_axis!(WATERTIGHT, KINDS, T, ray, kz => self.closest_best_in::<WATERTIGHT, KINDS, true>(ray, kz))
+        // SAFETY: the same CPU features and geometry as this function's.
+        by_axis!(WATERTIGHT, KINDS, T, ray, KZ => unsafe {
+            self.closest_best_avx2_along::<WATERTIGHT, KINDS, KZ>(ray)
+        })
+    }
+
+    /// [`Geometry::closest_best_avx2`] for shear axis `KZ` ([`by_axis!`]).
+    ///
+    /// # Safety
+    /// As for [`Geometry::closest_best_avx2`]; `KZ` is the ray's [`Shear::kz`] or [`ANY_AXIS`].
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    #[inline(never)]
+    unsafe fn closest_best_avx2_along<const WATERTIGHT: bool, const KINDS: u32, const KZ: usize>(
+        &self,
+        ray: &Ray<T>,
+    ) -> Option<Best<T>> {
+        self.closest_best_in::<WATERTIGHT, KINDS, true>(ray, axis_for::<T, KZ>(&ray.dir))
     }
 
     /// [`Geometry::closest_best_avx2`] compiled for AVX-512VL too: the same operations
@@ -1068,7 +1146,28 @@ impl<T: Float> Geometry<T> {
         &self,
         ray: &Ray<T>,
     ) -> Option<Best<T>> {
-        by_axis!(WATERTIGHT, KINDS, T, ray, kz => self.closest_best_in::<WATERTIGHT, KINDS, true>(ray, kz))
+        // SAFETY: the same CPU features and geometry as this function's.
+        by_axis!(WATERTIGHT, KINDS, T, ray, KZ => unsafe {
+            self.closest_best_avx512_along::<WATERTIGHT, KINDS, KZ>(ray)
+        })
+    }
+
+    /// [`Geometry::closest_best_avx512`] for shear axis `KZ` ([`by_axis!`]).
+    ///
+    /// # Safety
+    /// As for [`Geometry::closest_best_avx512`]; `KZ` is the ray's [`Shear::kz`] or [`ANY_AXIS`].
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma,avx512f,avx512vl")]
+    #[inline(never)]
+    unsafe fn closest_best_avx512_along<
+        const WATERTIGHT: bool,
+        const KINDS: u32,
+        const KZ: usize,
+    >(
+        &self,
+        ray: &Ray<T>,
+    ) -> Option<Best<T>> {
+        self.closest_best_in::<WATERTIGHT, KINDS, true>(ray, axis_for::<T, KZ>(&ray.dir))
     }
 
     /// [`Geometry::closest_best`] over the eight-wide tree (`EIGHT`, see [`RayQuery`])
@@ -1124,7 +1223,24 @@ impl<T: Float> Geometry<T> {
     #[target_feature(enable = "avx2,fma")]
     #[inline(never)]
     unsafe fn any_avx2<const WATERTIGHT: bool, const KINDS: u32>(&self, ray: &Ray<T>) -> bool {
-        by_axis!(WATERTIGHT, KINDS, T, ray, kz => self.any_in::<WATERTIGHT, KINDS, true>(ray, kz))
+        // SAFETY: the same CPU features and geometry as this function's.
+        by_axis!(WATERTIGHT, KINDS, T, ray, KZ => unsafe {
+            self.any_avx2_along::<WATERTIGHT, KINDS, KZ>(ray)
+        })
+    }
+
+    /// [`Geometry::any_avx2`] for shear axis `KZ` ([`by_axis!`]).
+    ///
+    /// # Safety
+    /// As for [`Geometry::any_avx2`]; `KZ` is the ray's [`Shear::kz`] or [`ANY_AXIS`].
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    #[inline(never)]
+    unsafe fn any_avx2_along<const WATERTIGHT: bool, const KINDS: u32, const KZ: usize>(
+        &self,
+        ray: &Ray<T>,
+    ) -> bool {
+        self.any_in::<WATERTIGHT, KINDS, true>(ray, axis_for::<T, KZ>(&ray.dir))
     }
 
     /// [`Geometry::any_avx2`] compiled for AVX-512VL too (see
@@ -1136,7 +1252,24 @@ impl<T: Float> Geometry<T> {
     #[target_feature(enable = "avx2,fma,avx512f,avx512vl")]
     #[inline(never)]
     unsafe fn any_avx512<const WATERTIGHT: bool, const KINDS: u32>(&self, ray: &Ray<T>) -> bool {
-        by_axis!(WATERTIGHT, KINDS, T, ray, kz => self.any_in::<WATERTIGHT, KINDS, true>(ray, kz))
+        // SAFETY: the same CPU features and geometry as this function's.
+        by_axis!(WATERTIGHT, KINDS, T, ray, KZ => unsafe {
+            self.any_avx512_along::<WATERTIGHT, KINDS, KZ>(ray)
+        })
+    }
+
+    /// [`Geometry::any_avx512`] for shear axis `KZ` ([`by_axis!`]).
+    ///
+    /// # Safety
+    /// As for [`Geometry::any_avx512`]; `KZ` is the ray's [`Shear::kz`] or [`ANY_AXIS`].
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma,avx512f,avx512vl")]
+    #[inline(never)]
+    unsafe fn any_avx512_along<const WATERTIGHT: bool, const KINDS: u32, const KZ: usize>(
+        &self,
+        ray: &Ray<T>,
+    ) -> bool {
+        self.any_in::<WATERTIGHT, KINDS, true>(ray, axis_for::<T, KZ>(&ray.dir))
     }
 
     #[inline(always)]
