@@ -739,12 +739,16 @@ impl<T: Float> Geometry<T> {
             EightWalk::Avx512 => {
                 // SAFETY: `Avx512` is chosen only where the CPU has AVX2, FMA, AVX-512F
                 // and AVX-512VL, for a geometry with the eight-wide tree.
-                return unsafe { self.any_hint_avx512::<WATERTIGHT, KINDS>(ray, hint) };
+                return by_axis!(WATERTIGHT, KINDS, T, ray, KZ => unsafe {
+                    self.any_hint_avx512::<WATERTIGHT, KINDS, KZ>(ray, hint)
+                });
             }
             EightWalk::Avx2 => {
                 // SAFETY: `Avx2` is chosen only where the CPU has AVX2 and FMA, for a
                 // geometry with the eight-wide tree.
-                return unsafe { self.any_hint_avx2::<WATERTIGHT, KINDS>(ray, hint) };
+                return by_axis!(WATERTIGHT, KINDS, T, ray, KZ => unsafe {
+                    self.any_hint_avx2::<WATERTIGHT, KINDS, KZ>(ray, hint)
+                });
             }
             EightWalk::Off => {}
         }
@@ -769,25 +773,7 @@ impl<T: Float> Geometry<T> {
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma")]
     #[inline(never)]
-    unsafe fn any_hint_avx2<const WATERTIGHT: bool, const KINDS: u32>(
-        &self,
-        ray: &Ray<T>,
-        hint: &mut u32,
-    ) -> bool {
-        // SAFETY: the same CPU features and geometry as this function's.
-        by_axis!(WATERTIGHT, KINDS, T, ray, KZ => unsafe {
-            self.any_hint_avx2_along::<WATERTIGHT, KINDS, KZ>(ray, hint)
-        })
-    }
-
-    /// [`Geometry::any_hint_avx2`] for shear axis `KZ` ([`by_axis!`]).
-    ///
-    /// # Safety
-    /// As for [`Geometry::any_hint_avx2`]; `KZ` is the ray's [`Shear::kz`] or [`ANY_AXIS`].
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2,fma")]
-    #[inline(never)]
-    unsafe fn any_hint_avx2_along<const WATERTIGHT: bool, const KINDS: u32, const KZ: usize>(
+    unsafe fn any_hint_avx2<const WATERTIGHT: bool, const KINDS: u32, const KZ: usize>(
         &self,
         ray: &Ray<T>,
         hint: &mut u32,
@@ -803,25 +789,7 @@ impl<T: Float> Geometry<T> {
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma,avx512f,avx512vl")]
     #[inline(never)]
-    unsafe fn any_hint_avx512<const WATERTIGHT: bool, const KINDS: u32>(
-        &self,
-        ray: &Ray<T>,
-        hint: &mut u32,
-    ) -> bool {
-        // SAFETY: the same CPU features and geometry as this function's.
-        by_axis!(WATERTIGHT, KINDS, T, ray, KZ => unsafe {
-            self.any_hint_avx512_along::<WATERTIGHT, KINDS, KZ>(ray, hint)
-        })
-    }
-
-    /// [`Geometry::any_hint_avx512`] for shear axis `KZ` ([`by_axis!`]).
-    ///
-    /// # Safety
-    /// As for [`Geometry::any_hint_avx512`]; `KZ` is the ray's [`Shear::kz`] or [`ANY_AXIS`].
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2,fma,avx512f,avx512vl")]
-    #[inline(never)]
-    unsafe fn any_hint_avx512_along<const WATERTIGHT: bool, const KINDS: u32, const KZ: usize>(
+    unsafe fn any_hint_avx512<const WATERTIGHT: bool, const KINDS: u32, const KZ: usize>(
         &self,
         ray: &Ray<T>,
         hint: &mut u32,
@@ -1070,12 +1038,16 @@ impl<T: Float> Geometry<T> {
             EightWalk::Avx512 => {
                 // SAFETY: `Avx512` is chosen only where the CPU has AVX2, FMA, AVX-512F
                 // and AVX-512VL, for a geometry with the eight-wide tree.
-                return unsafe { self.closest_best_avx512::<WATERTIGHT, KINDS>(ray) };
+                return by_axis!(WATERTIGHT, KINDS, T, ray, KZ => unsafe {
+                    self.closest_best_avx512::<WATERTIGHT, KINDS, KZ>(ray)
+                });
             }
             EightWalk::Avx2 => {
                 // SAFETY: `Avx2` is chosen only where the CPU has AVX2 and FMA, for a
                 // geometry with the eight-wide tree.
-                return unsafe { self.closest_best_avx2::<WATERTIGHT, KINDS>(ray) };
+                return by_axis!(WATERTIGHT, KINDS, T, ray, KZ => unsafe {
+                    self.closest_best_avx2::<WATERTIGHT, KINDS, KZ>(ray)
+                });
             }
             EightWalk::Off => {}
         }
@@ -1092,32 +1064,16 @@ impl<T: Float> Geometry<T> {
         self.closest_best_in::<WATERTIGHT, KINDS, false>(ray, Shear::kz(&ray.dir))
     }
 
-    /// [`Geometry::closest_best`] over the eight-wide tree, compiled for AVX2.
+    /// [`Geometry::closest_best`] over the eight-wide tree, compiled for AVX2 and for
+    /// shear axis `KZ` (chosen by [`by_axis!`]).
     ///
     /// # Safety
     /// The CPU has AVX2 and FMA, and the geometry the eight-wide tree
-    /// ([`Geometry::eight`]).
+    /// ([`Geometry::eight`]). `KZ` is the ray's [`Shear::kz`] or [`ANY_AXIS`].
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma")]
     #[inline(never)]
-    unsafe fn closest_best_avx2<const WATERTIGHT: bool, const KINDS: u32>(
-        &self,
-        ray: &Ray<T>,
-    ) -> Option<Best<T>> {
-        // SAFETY: the same CPU features and geometry as this function's.
-        by_axis!(WATERTIGHT, KINDS, T, ray, KZ => unsafe {
-            self.closest_best_avx2_along::<WATERTIGHT, KINDS, KZ>(ray)
-        })
-    }
-
-    /// [`Geometry::closest_best_avx2`] for shear axis `KZ` ([`by_axis!`]).
-    ///
-    /// # Safety
-    /// As for [`Geometry::closest_best_avx2`]; `KZ` is the ray's [`Shear::kz`] or [`ANY_AXIS`].
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2,fma")]
-    #[inline(never)]
-    unsafe fn closest_best_avx2_along<const WATERTIGHT: bool, const KINDS: u32, const KZ: usize>(
+    unsafe fn closest_best_avx2<const WATERTIGHT: bool, const KINDS: u32, const KZ: usize>(
         &self,
         ray: &Ray<T>,
     ) -> Option<Best<T>> {
@@ -1142,28 +1098,7 @@ impl<T: Float> Geometry<T> {
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma,avx512f,avx512vl")]
     #[inline(never)]
-    unsafe fn closest_best_avx512<const WATERTIGHT: bool, const KINDS: u32>(
-        &self,
-        ray: &Ray<T>,
-    ) -> Option<Best<T>> {
-        // SAFETY: the same CPU features and geometry as this function's.
-        by_axis!(WATERTIGHT, KINDS, T, ray, KZ => unsafe {
-            self.closest_best_avx512_along::<WATERTIGHT, KINDS, KZ>(ray)
-        })
-    }
-
-    /// [`Geometry::closest_best_avx512`] for shear axis `KZ` ([`by_axis!`]).
-    ///
-    /// # Safety
-    /// As for [`Geometry::closest_best_avx512`]; `KZ` is the ray's [`Shear::kz`] or [`ANY_AXIS`].
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2,fma,avx512f,avx512vl")]
-    #[inline(never)]
-    unsafe fn closest_best_avx512_along<
-        const WATERTIGHT: bool,
-        const KINDS: u32,
-        const KZ: usize,
-    >(
+    unsafe fn closest_best_avx512<const WATERTIGHT: bool, const KINDS: u32, const KZ: usize>(
         &self,
         ray: &Ray<T>,
     ) -> Option<Best<T>> {
@@ -1196,12 +1131,16 @@ impl<T: Float> Geometry<T> {
             EightWalk::Avx512 => {
                 // SAFETY: `Avx512` is chosen only where the CPU has AVX2, FMA, AVX-512F
                 // and AVX-512VL, for a geometry with the eight-wide tree.
-                return unsafe { self.any_avx512::<WATERTIGHT, KINDS>(ray) };
+                return by_axis!(WATERTIGHT, KINDS, T, ray, KZ => unsafe {
+                    self.any_avx512::<WATERTIGHT, KINDS, KZ>(ray)
+                });
             }
             EightWalk::Avx2 => {
                 // SAFETY: `Avx2` is chosen only where the CPU has AVX2 and FMA, for a
                 // geometry with the eight-wide tree.
-                return unsafe { self.any_avx2::<WATERTIGHT, KINDS>(ray) };
+                return by_axis!(WATERTIGHT, KINDS, T, ray, KZ => unsafe {
+                    self.any_avx2::<WATERTIGHT, KINDS, KZ>(ray)
+                });
             }
             EightWalk::Off => {}
         }
@@ -1222,21 +1161,7 @@ impl<T: Float> Geometry<T> {
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma")]
     #[inline(never)]
-    unsafe fn any_avx2<const WATERTIGHT: bool, const KINDS: u32>(&self, ray: &Ray<T>) -> bool {
-        // SAFETY: the same CPU features and geometry as this function's.
-        by_axis!(WATERTIGHT, KINDS, T, ray, KZ => unsafe {
-            self.any_avx2_along::<WATERTIGHT, KINDS, KZ>(ray)
-        })
-    }
-
-    /// [`Geometry::any_avx2`] for shear axis `KZ` ([`by_axis!`]).
-    ///
-    /// # Safety
-    /// As for [`Geometry::any_avx2`]; `KZ` is the ray's [`Shear::kz`] or [`ANY_AXIS`].
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2,fma")]
-    #[inline(never)]
-    unsafe fn any_avx2_along<const WATERTIGHT: bool, const KINDS: u32, const KZ: usize>(
+    unsafe fn any_avx2<const WATERTIGHT: bool, const KINDS: u32, const KZ: usize>(
         &self,
         ray: &Ray<T>,
     ) -> bool {
@@ -1251,21 +1176,7 @@ impl<T: Float> Geometry<T> {
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma,avx512f,avx512vl")]
     #[inline(never)]
-    unsafe fn any_avx512<const WATERTIGHT: bool, const KINDS: u32>(&self, ray: &Ray<T>) -> bool {
-        // SAFETY: the same CPU features and geometry as this function's.
-        by_axis!(WATERTIGHT, KINDS, T, ray, KZ => unsafe {
-            self.any_avx512_along::<WATERTIGHT, KINDS, KZ>(ray)
-        })
-    }
-
-    /// [`Geometry::any_avx512`] for shear axis `KZ` ([`by_axis!`]).
-    ///
-    /// # Safety
-    /// As for [`Geometry::any_avx512`]; `KZ` is the ray's [`Shear::kz`] or [`ANY_AXIS`].
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2,fma,avx512f,avx512vl")]
-    #[inline(never)]
-    unsafe fn any_avx512_along<const WATERTIGHT: bool, const KINDS: u32, const KZ: usize>(
+    unsafe fn any_avx512<const WATERTIGHT: bool, const KINDS: u32, const KZ: usize>(
         &self,
         ray: &Ray<T>,
     ) -> bool {
