@@ -622,6 +622,11 @@ fn split(
         };
     }
 
+    let area = ext.bounds.half_area();
+    if may_be_leaf && no_split_pays(cfg, prims, area) {
+        return None;
+    }
+
     // Bin all three axes in one pass. A flat axis has scale 0, puts everything in bin 0
     // and so has no candidate split. The partition below must use the very same
     // `bin_of`, so that each child's bounds are exactly the union of its bins.
@@ -632,7 +637,6 @@ fn split(
 
     let best = best_split(bins, nb, &mut scratch.sweep);
 
-    let area = ext.bounds.half_area();
     if let Some((cost, axis, bin)) = best {
         let leaf_cost = n as f32;
         let split_cost = cfg.traversal_cost + cost / area;
@@ -713,6 +717,25 @@ fn best_split(bins: &Bins, nb: usize, scratch: &mut SweepScratch) -> Option<(f32
         }
     }
     best
+}
+
+/// Is every split of `prims` (whose bounds have half area `area`) at least as costly as
+/// a leaf, so that binning cannot change the decision? Each primitive lies in one child,
+/// whose box contains the primitive's, so $N_L A_L + N_R A_R \ge \sum_i A_i$ and every
+/// split costs at least $C_{trav} + \sum_i A_i / A$; a leaf costs $n$. With the default
+/// costs this settles every node of two primitives (the bound is $C_{trav} = 2$) and a
+/// few of three: on balls-s6 a quarter of all binnings (`RESULTS.md`). The sum is taken
+/// 0.1 % short, far more than the rounding of the sweeps' sums, so that a split this
+/// bound rules out could never have paid in `f32` either; a bound that is not a number
+/// (a flat node) rules nothing out.
+#[inline(always)]
+fn no_split_pays(cfg: &BuildConfig, prims: &[BuildPrim], area: f32) -> bool {
+    let n = prims.len() as f32;
+    if cfg.traversal_cost >= n {
+        return true;
+    }
+    let sum: f32 = prims.iter().map(|p| p.bounds.half_area()).sum();
+    cfg.traversal_cost + 0.999 * sum / area >= n
 }
 
 /// May a node at `depth` with `n` primitives split by the SAH (which may peel off a
@@ -1020,6 +1043,59 @@ mod tests {
             found += usize::from(got.is_some());
         }
         assert!(found > 1500, "{found} rounds with a split");
+    }
+
+    #[test]
+    fn a_node_the_bound_makes_a_leaf_never_has_a_split_that_pays() {
+        let mut s = 0x51_7cc1_b727_220au64;
+        let mut next = move || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 40) as f32 / (1u64 << 24) as f32
+        };
+        let mut scratch = Box::new(Scratch::new());
+        let (mut ruled_out, mut left_to_bins) = ([0; 9], [0; 9]);
+        for round in 0..6000 {
+            let n = 2 + round % 7;
+            let traversal_cost = [1.0, 2.0, 3.5][round % 3];
+            // Clusters from touching boxes (spread 0.5) to scattered ones (spread 8).
+            let spread = 0.5 + 7.5 * next();
+            let prims: Vec<BuildPrim> = (0..n)
+                .map(|i| {
+                    let c = [next(), next(), next()].map(|x| x * spread);
+                    cube(c, 0.5 + 0.5 * next(), i as u32)
+                })
+                .collect();
+            let cfg = BuildConfig {
+                max_leaf_size: 8,
+                parallel: false,
+                traversal_cost,
+            };
+            let ext = measure(&prims);
+            let area = ext.bounds.half_area();
+            if !no_split_pays(&cfg, &prims, area) {
+                left_to_bins[n] += 1;
+                continue;
+            }
+            ruled_out[n] += 1;
+            let nb = bin_count(n);
+            let map = BinMap::new(&ext.centroids, nb);
+            scratch.bins.fill(&prims, &map, &mut scratch.other);
+            if let Some((cost, axis, bin)) = best_split(&scratch.bins, nb, &mut scratch.sweep) {
+                assert!(
+                    traversal_cost + cost / area >= n as f32,
+                    "round {round}: {n} primitives, the split after bin {bin} of axis {axis} pays"
+                );
+            }
+        }
+        // The bound settles some nodes of three and leaves others, and most nodes of
+        // eight, to the bins.
+        assert!(
+            ruled_out[3] > 50 && left_to_bins[3] > 50,
+            "{ruled_out:?} {left_to_bins:?}"
+        );
+        assert!(left_to_bins[8] > 500, "{left_to_bins:?}");
     }
 
     #[test]
