@@ -94,9 +94,18 @@ impl<T: Real> Default for Prims<T> {
 /// rounding in the intersection kernels cannot report a hit outside the box, then rounds
 /// it outward to `f32`.
 fn padded<T: Real>(lo: [f64; 3], hi: [f64; 3]) -> Bounds3 {
-    let mag = (0..3).fold(0.0f64, |m, a| {
-        m.max(lo[a].abs()).max(hi[a].abs()).max(hi[a] - lo[a])
-    });
+    // The largest of the corners' magnitudes and the extents. A NaN never compares
+    // greater, so it is skipped as `f64::max` skips it, but without the NaN tests that
+    // `f64::max` compiles to: 18 fewer instructions a sphere (callgrind, balls-s6), and
+    // the same boxes bit for bit (`padded_boxes_take_the_largest_magnitude_as_f64_max_does`).
+    let mut mag = 0.0f64;
+    for a in 0..3 {
+        for v in [lo[a].abs(), hi[a].abs(), hi[a] - lo[a]] {
+            if v > mag {
+                mag = v;
+            }
+        }
+    }
     let pad = 4.0 * T::EPSILON.to_f64() * mag;
     Bounds3::from_f64(lo.map(|x| x - pad), hi.map(|x| x + pad))
 }
@@ -270,6 +279,48 @@ fn collect<X: Send>(n: usize, parallel: bool, f: impl Fn(usize) -> X + Sync + Se
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn padded_boxes_take_the_largest_magnitude_as_f64_max_does() {
+        // The padding as first written, with `f64::max`.
+        let reference = |lo: [f64; 3], hi: [f64; 3]| {
+            let mag = (0..3).fold(0.0f64, |m, a| {
+                m.max(lo[a].abs()).max(hi[a].abs()).max(hi[a] - lo[a])
+            });
+            let pad = 4.0 * f64::from(f32::EPSILON) * mag;
+            Bounds3::from_f64(lo.map(|x| x - pad), hi.map(|x| x + pad))
+        };
+        let values = [
+            0.0,
+            -0.0,
+            1.0,
+            -3.5,
+            123.456,
+            1e30,
+            -1e-30,
+            2.0 * f64::from(f32::MAX),
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+        ];
+        let mut s = 0x2545_f491_4f6c_dd1du64;
+        let mut pick = || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            values[(s % values.len() as u64) as usize]
+        };
+        let bits = |b: Bounds3| (b.lo.map(f32::to_bits), b.hi.map(f32::to_bits));
+        for _ in 0..20_000 {
+            let lo = [pick(), pick(), pick()];
+            let hi = [pick(), pick(), pick()];
+            assert_eq!(
+                bits(padded::<f32>(lo, hi)),
+                bits(reference(lo, hi)),
+                "{lo:?} {hi:?}"
+            );
+        }
+    }
 
     #[test]
     fn hot_data_sizes() {
