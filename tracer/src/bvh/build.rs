@@ -374,18 +374,23 @@ fn measure(prims: &[BuildPrim]) -> Extent {
 }
 
 /// Bins of one node for all three axes: bounds per axis and bin, and primitive counts per
-/// bin with the axis as lane (lane 3 unused, kept 0), which the sweeps read as one
-/// four-lane array.
+/// bin with the axis as lane (lanes 3 to 7 unused, kept 0), which the sweeps read as one
+/// four-lane array. A bin's counts take 32 bytes, as its box does, so that binning
+/// addresses both with the same scaled index.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Bins {
     bounds: [[Box4; NUM_BINS]; 3],
-    counts: [[u32; 4]; NUM_BINS],
+    counts: [[u32; COUNT_LANES]; NUM_BINS],
 }
+
+/// Lanes of one bin's counts (see [`Bins`]).
+const COUNT_LANES: usize = 8;
+const _: () = assert!(COUNT_LANES * 4 == core::mem::size_of::<Box4>());
 
 impl Bins {
     const EMPTY: Self = Self {
         bounds: [[Box4::EMPTY; NUM_BINS]; 3],
-        counts: [[0; 4]; NUM_BINS],
+        counts: [[0; COUNT_LANES]; NUM_BINS],
     };
 
     /// Empties the first `nb` bins of every axis.
@@ -394,7 +399,7 @@ impl Bins {
         for a in 0..3 {
             self.bounds[a][..nb].fill(Box4::EMPTY);
         }
-        self.counts[..nb].fill([0; 4]);
+        self.counts[..nb].fill([0; COUNT_LANES]);
     }
 
     /// Adds one primitive to its bin on every axis.
