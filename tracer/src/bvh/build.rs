@@ -650,8 +650,8 @@ fn split(
             return None;
         }
         if split_cost.is_finite() || !may_be_leaf {
-            let (cmin, k) = (centroids.lo[axis], map.scale(axis));
-            let (mid, lc, rc) = partition(prims, axis, (cmin, k, nb), bin);
+            let (cmin, cmax, k) = (centroids.lo[axis], centroids.hi[axis], map.scale(axis));
+            let (mid, lc, rc) = partition(prims, axis, (cmin, cmax, k, nb), bin);
             debug_assert!(mid > 0 && mid < n);
             let (mut lb, mut rb) = (Box4::EMPTY, Box4::EMPTY);
             for b in &scratch.bins.bounds[axis][..=bin] {
@@ -769,8 +769,10 @@ fn median_split(prims: &mut [BuildPrim], centroids: &Bounds3) -> (usize, Extent,
 }
 
 /// Moves the primitives whose centroid falls into bins `0..=bin` of `axis` (by
-/// [`bin_of`] with `cmin`, `k` and `nb`) to the front; returns how many there are and
-/// the centroid bounds of both groups.
+/// [`bin_of`] with `cmin`, `k` and `nb`; `cmax` is the centroids' top along `axis`) to
+/// the front; returns how many there are and the centroid bounds of both groups. The
+/// test is one comparison with [`first_beyond`]'s bound, or the mapping itself where
+/// there is no bound.
 ///
 /// The mapping's values are copies, not references, and the centroid bounds stay in
 /// registers: written as a closure over the caller's values, the loop reloaded them
@@ -779,11 +781,83 @@ fn median_split(prims: &mut [BuildPrim], centroids: &Bounds3) -> (usize, Extent,
 fn partition(
     prims: &mut [BuildPrim],
     axis: usize,
-    (cmin, k, nb): (f32, f32, usize),
+    (cmin, cmax, k, nb): (f32, f32, f32, usize),
     bin: usize,
 ) -> (usize, Bounds3, Bounds3) {
     assert!(axis < 3, "an axis of three");
-    let left = move |p: &BuildPrim| bin_of(p.centroid[axis], cmin, k, nb) <= bin;
+    match first_beyond(cmin, cmax, k, nb, bin) {
+        Some(t) => partition_by(prims, move |p| p.centroid[axis] < t),
+        None => partition_by(prims, move |p| bin_of(p.centroid[axis], cmin, k, nb) <= bin),
+    }
+}
+
+/// The least `f32` whose bin ([`bin_of`] with `cmin`, `k` and `nb`) comes after `bin`,
+/// where `cmax` (the centroid bounds' top along the axis) lies beyond it. `bin_of` never
+/// decreases as its coordinate grows (a difference, a product by a positive factor,
+/// clamps and a truncation, each monotone in IEEE arithmetic), so a coordinate lies in
+/// bins `0..=bin` exactly when it is below that bound: one comparison a primitive in the
+/// partition instead of the mapping. Centroids are finite ([`Bounds3::centroid`]), so NaN
+/// cannot reach the comparison. The division's estimate is usually within an ulp or two;
+/// where it is not (a bound near 0 with `cmin` far from it, whose ulps are far finer than
+/// the mapping's rounding), bisection over the ordered `f32`s between `cmin` (bin 0)
+/// and `cmax` finds the bound in at most 32 steps.
+fn first_beyond(cmin: f32, cmax: f32, k: f32, nb: usize, bin: usize) -> Option<f32> {
+    let beyond = |x: f32| bin_of(x, cmin, k, nb) > bin;
+    if beyond(cmin) || !beyond(cmax) {
+        return None;
+    }
+    let x = cmin + (bin + 1) as f32 / k;
+    if x > cmin && x <= cmax {
+        let mut x = x;
+        for _ in 0..4 {
+            if beyond(x) {
+                let below = x.next_down();
+                if !beyond(below) {
+                    return Some(x);
+                }
+                x = below;
+            } else {
+                x = x.next_up();
+            }
+        }
+    }
+    // `f32`s ordered as integers: the non-negative ones by their bits, the negative ones
+    // reflected below them (-0.0 just below +0.0).
+    let key = |x: f32| {
+        let b = i64::from(x.to_bits() as i32);
+        if b >= 0 {
+            b
+        } else {
+            i64::from(i32::MIN) - b - 1
+        }
+    };
+    let value = |k: i64| {
+        let b = if k >= 0 {
+            k
+        } else {
+            i64::from(i32::MIN) - k - 1
+        };
+        f32::from_bits(b as i32 as u32)
+    };
+    // Invariant: `value(lo)` is not beyond, `value(hi)` is.
+    let (mut lo, mut hi) = (key(cmin), key(cmax));
+    while hi - lo > 1 {
+        let mid = lo + (hi - lo) / 2;
+        if beyond(value(mid)) {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    Some(value(hi))
+}
+
+/// Moves the primitives for which `left` holds to the front, as [`partition`] describes.
+#[inline(always)]
+fn partition_by(
+    prims: &mut [BuildPrim],
+    left: impl Fn(&BuildPrim) -> bool,
+) -> (usize, Bounds3, Bounds3) {
     let empty = Box4::EMPTY;
     let (mut l_lo, mut l_hi) = (lanes(empty.lo), lanes(empty.hi));
     let (mut r_lo, mut r_hi) = (l_lo, l_hi);
@@ -1101,6 +1175,50 @@ mod tests {
             "{ruled_out:?} {left_to_bins:?}"
         );
         assert!(left_to_bins[8] > 500, "{left_to_bins:?}");
+    }
+
+    #[test]
+    fn the_first_coordinate_beyond_a_bin_splits_as_the_mapping_does() {
+        let mut s = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = move || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 40) as f32 / (1u64 << 24) as f32
+        };
+        let mut found = 0;
+        for round in 0..3000 {
+            let nb = MIN_BINS + round % (NUM_BINS - MIN_BINS + 1);
+            // Extents from tiny to huge, placed anywhere, negative included.
+            let extent = 10f32.powf(-6.0 + 12.0 * next());
+            let lo = (next() - 0.5) * 10f32.powf(6.0 * next());
+            let b = BinMap::new(
+                &Bounds3 {
+                    lo: [lo; 3],
+                    hi: [lo + extent; 3],
+                },
+                nb,
+            );
+            let (cmin, k) = (lo, b.scale(0));
+            let bin = (next() * (nb - 1) as f32) as usize;
+            if lo + extent == lo {
+                // A flat axis: no split, no bound.
+                continue;
+            }
+            let t = first_beyond(cmin, lo + extent, k, nb, bin)
+                .unwrap_or_else(|| panic!("round {round}: no bound for bin {bin} of {nb}"));
+            found += 1;
+            let mut probes = vec![t, t.next_down(), t.next_up(), cmin, lo + extent];
+            probes.extend((0..20).map(|_| lo + extent * (next() * 1.2 - 0.1)));
+            for c in probes {
+                assert_eq!(
+                    c < t,
+                    bin_of(c, cmin, k, nb) <= bin,
+                    "round {round}: coordinate {c}, bound {t}, bin {bin} of {nb}"
+                );
+            }
+        }
+        assert!(found > 2500, "{found} rounds with a bound");
     }
 
     #[test]
