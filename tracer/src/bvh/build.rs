@@ -806,9 +806,8 @@ fn first_beyond(cmin: f32, cmax: f32, k: f32, nb: usize, bin: usize) -> Option<f
     if beyond(cmin) || !beyond(cmax) {
         return None;
     }
-    let x = cmin + (bin + 1) as f32 / k;
+    let mut x = cmin + (bin + 1) as f32 / k;
     if x > cmin && x <= cmax {
-        let mut x = x;
         for _ in 0..4 {
             if beyond(x) {
                 let below = x.next_down();
@@ -821,24 +820,12 @@ fn first_beyond(cmin: f32, cmax: f32, k: f32, nb: usize, bin: usize) -> Option<f
             }
         }
     }
-    // `f32`s ordered as integers: the non-negative ones by their bits, the negative ones
-    // reflected below them (-0.0 just below +0.0).
-    let key = |x: f32| {
-        let b = i64::from(x.to_bits() as i32);
-        if b >= 0 {
-            b
-        } else {
-            i64::from(i32::MIN) - b - 1
-        }
-    };
-    let value = |k: i64| {
-        let b = if k >= 0 {
-            k
-        } else {
-            i64::from(i32::MIN) - k - 1
-        };
-        f32::from_bits(b as i32 as u32)
-    };
+    // `f32`s ordered as integers: flipping the magnitude bits of the negative ones puts
+    // them below the non-negative ones, in order (-0.0 just below +0.0). The flip is its
+    // own inverse.
+    let ordered = |b: i32| b ^ ((b >> 31) & i32::MAX);
+    let key = |x: f32| i64::from(ordered(x.to_bits() as i32));
+    let value = |k: i64| f32::from_bits(ordered(k as i32) as u32);
     // Invariant: `value(lo)` is not beyond, `value(hi)` is.
     let (mut lo, mut hi) = (key(cmin), key(cmax));
     while hi - lo > 1 {
@@ -907,14 +894,18 @@ mod tests {
     }
 
     /// Pseudo-random points from a fixed-seed xorshift.
-    fn cloud(n: usize) -> Vec<BuildPrim> {
-        let mut s = 0x2545_f491_4f6c_dd1du64;
-        let mut next = || {
+    /// Uniform `f32`s in `[0, 1)` from a xorshift generator seeded with `seed`.
+    fn unit_floats(mut s: u64) -> impl FnMut() -> f32 {
+        move || {
             s ^= s << 13;
             s ^= s >> 7;
             s ^= s << 17;
             (s >> 40) as f32 / (1u64 << 24) as f32
-        };
+        }
+    }
+
+    fn cloud(n: usize) -> Vec<BuildPrim> {
+        let mut next = unit_floats(0x2545_f491_4f6c_dd1d);
         (0..n)
             .map(|i| {
                 cube(
@@ -1126,13 +1117,7 @@ mod tests {
 
     #[test]
     fn a_node_the_bound_makes_a_leaf_never_has_a_split_that_pays() {
-        let mut s = 0x51_7cc1_b727_220au64;
-        let mut next = move || {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s >> 40) as f32 / (1u64 << 24) as f32
-        };
+        let mut next = unit_floats(0x51_7cc1_b727_220a);
         let mut scratch = Box::new(Scratch::new());
         let (mut ruled_out, mut left_to_bins) = ([0; 9], [0; 9]);
         for round in 0..6000 {
@@ -1179,13 +1164,7 @@ mod tests {
 
     #[test]
     fn the_first_coordinate_beyond_a_bin_splits_as_the_mapping_does() {
-        let mut s = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = move || {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s >> 40) as f32 / (1u64 << 24) as f32
-        };
+        let mut next = unit_floats(0x9e37_79b9_7f4a_7c15);
         let mut found = 0;
         for round in 0..3000 {
             let nb = MIN_BINS + round % (NUM_BINS - MIN_BINS + 1);
