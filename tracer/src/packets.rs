@@ -23,6 +23,9 @@
 //!    light at a time over the block (`shade_packet`): each hit's shadow ray toward the
 //!    light, built by `Surface::light_ray`, joins one any-hit packet (a ray leaves it
 //!    at its first blocker), and the hits it leaves unblocked add the light's terms.
+//!    Before its walk the packet tests the primitive that last blocked a packet toward
+//!    that light on this thread (`SHADOW_HINTS`, the packet form of the single rays'
+//!    shadow cache); the rays it blocks do not walk the tree.
 //! 4. Each hit then makes its reflection and refraction rays (`Surface::spawn`).
 //! 5. **Secondary rays.** `radiance_tile` does steps 1 to 4 for a tile of 4x4 blocks
 //!    (`TILE_SHAPE`), then gathers the reflection and refraction rays of all the
@@ -202,7 +205,7 @@ fn shade_packet<const FX: u32>(
         }
     }
     let ar = &limits.arith;
-    for light in &scene.lights {
+    for (li, light) in scene.lights.iter().enumerate() {
         let mut packet = [None; MAX_LANES];
         let mut dirs = [Vec3::zero(); MAX_LANES];
         let mut any = false;
@@ -219,7 +222,17 @@ fn shade_packet<const FX: u32>(
         if !any {
             continue;
         }
-        let blocked = scene.geometry.occluded_packet(isa, &packet);
+        let blocked = match SHADOW_HINTS.with(|h| h.get(li).map(Cell::get)) {
+            Some(mut hint) => {
+                let was = hint;
+                let blocked = scene.geometry.occluded_packet_hint(isa, &packet, &mut hint);
+                if hint != was {
+                    SHADOW_HINTS.with(|h| h[li].set(hint));
+                }
+                blocked
+            }
+            None => scene.geometry.occluded_packet(isa, &packet),
+        };
         for (k, lane) in lanes.iter_mut().enumerate() {
             if let (Some(_), false, Some((s, color))) = (&packet[k], blocked[k], lane) {
                 s.add_light::<FX>(color, light, &dirs[k], ar);
@@ -411,7 +424,17 @@ pub(crate) fn radiance_tile<const FX: u32>(
     out
 }
 
+/// Lights with a shadow cache entry for the shadow packets of [`shade_packet`]; the
+/// packets of others go uncached.
+const HINT_LIGHTS: usize = 8;
+
 thread_local! {
+    /// The last occluder of a shadow packet toward each light on this thread, tested
+    /// against the next packet's rays before its walk (the packet form of the shadow
+    /// cache of [`crate::shade`]). Like that cache it only decides how soon occluders
+    /// are found, never whether they are, so images do not depend on it.
+    static SHADOW_HINTS: [Cell<u32>; HINT_LIGHTS] =
+        const { [const { Cell::new(crate::geometry::NO_HINT) }; HINT_LIGHTS] };
     /// The nodes of [`radiance_tile`], kept from tile to tile on each thread.
     static NODES: Cell<Vec<Node>> = const { Cell::new(Vec::new()) };
     /// The order of a generation's nodes in its packets ([`by_octant`]).

@@ -292,6 +292,63 @@ fn packet_shadow_rays_are_the_single_ray_answers() {
     );
 }
 
+/// The shadow cache of the packets: whatever primitive reference the hint holds (none,
+/// the one the previous packet left, each lane's own occluder, or values that name no
+/// primitive), every lane is the single ray's answer; and the hint is left empty exactly
+/// when no lane is blocked.
+#[test]
+fn packet_shadow_rays_with_any_cached_occluder_are_the_single_ray_answers() {
+    use tracer::geometry::{kinds, NO_HINT};
+    let isas = isas("cached shadow rays");
+    let (mut hinted, mut changed) = (0, 0);
+    for name in shipped() {
+        let s = scene(&name, &AccelOptions::default());
+        let packets = shadow_packets(&s, 23, 19);
+        for &isa in &isas {
+            let mut carried = NO_HINT;
+            for (k, rays) in packets.iter().enumerate() {
+                let lanes = &rays[..isa.lanes()];
+                let want: Vec<bool> = lanes
+                    .iter()
+                    .map(|r| r.as_ref().is_some_and(|r| s.geometry.occluded(r)))
+                    .collect();
+                // Each lane's occluder, as the single-ray cache records it.
+                let own = lanes.iter().flatten().map(|r| {
+                    let mut h = NO_HINT;
+                    s.geometry
+                        .occluded_hint_kinds::<{ kinds::ALL }>(r, &mut h);
+                    h
+                });
+                let mut hints = vec![carried, NO_HINT, 0, 0x7fff_ffff, u32::MAX - 1];
+                hints.extend(own);
+                for (j, hint0) in hints.into_iter().enumerate() {
+                    let mut hint = hint0;
+                    let got = s.geometry.occluded_packet_hint(isa, rays, &mut hint);
+                    assert_eq!(
+                        &got[..isa.lanes()],
+                        &want[..],
+                        "{name} {isa} packet {k} hint {hint0:#x}"
+                    );
+                    assert!(got[isa.lanes()..].iter().all(|b| !b));
+                    let any_ray = lanes.iter().any(Option::is_some);
+                    assert!(
+                        !any_ray || (hint != NO_HINT) == want.contains(&true),
+                        "{name} {isa} packet {k}: hint {hint:#x} left after {want:?}"
+                    );
+                    if hint0 != NO_HINT {
+                        hinted += 1;
+                    }
+                    changed += usize::from(hint != hint0);
+                    if j == 0 {
+                        carried = hint;
+                    }
+                }
+            }
+        }
+    }
+    assert!(hinted > 1000 && changed > 100, "hinted {hinted}, changed {changed}");
+}
+
 #[test]
 fn packet_shadow_fallbacks_are_the_single_ray_answers() {
     let isas = isas("shadow fallbacks");

@@ -564,30 +564,40 @@ impl Geometry<f32> {
     }
 
     /// The any-hit tests of one leaf against the lanes `m` (none of them blocked yet):
-    /// the lanes it blocks.
+    /// the lanes it blocks. `*blocker` becomes the last primitive that blocked a lane.
     #[inline(always)]
-    fn packet_leaf_any<S: SimdF32>(&self, leaf: Leaf<'_>, mut m: u32, su: &Setup<'_, S>) -> u32 {
+    fn packet_leaf_any<S: SimdF32>(
+        &self,
+        leaf: Leaf<'_>,
+        mut m: u32,
+        su: &Setup<'_, S>,
+        blocker: &mut u32,
+    ) -> u32 {
         let mut done = 0u32;
+        let mut test = |r: u32, m: &mut u32| {
+            let d = self.packet_any(r, *m, su);
+            if d != 0 {
+                *blocker = r;
+            }
+            done |= d;
+            *m &= !d;
+        };
         match leaf {
             Leaf::Refs(refs) => {
                 for &r in refs {
                     if m == 0 {
                         break;
                     }
-                    let d = self.packet_any(r, m, su);
-                    done |= d;
-                    m &= !d;
+                    test(r, &mut m);
                 }
             }
             Leaf::Grouped { child, count } => {
-                for (g, k) in self.groups(child, count).iter().zip((0..count).step_by(4)) {
+                'groups: for (g, k) in self.groups(child, count).iter().zip((0..count).step_by(4)) {
                     for &i in &g.index[..(count - k).min(TRI4_LANES as u32) as usize] {
                         if m == 0 {
-                            return done;
+                            break 'groups;
                         }
-                        let d = self.packet_any(make_ref(TRIANGLE, i as usize), m, su);
-                        done |= d;
-                        m &= !d;
+                        test(make_ref(TRIANGLE, i as usize), &mut m);
                     }
                 }
             }
@@ -716,16 +726,25 @@ impl Geometry<f32> {
     /// If `rays` or `out` is shorter than `S::LANES`, or `S::LANES > 16`.
     #[inline(always)]
     pub fn occluded_lanes<S: SimdF32>(&self, rays: &[Option<Ray<f32>>], out: &mut [bool]) {
-        self.occluded_packet_switch::<S>(rays, out, SWITCH);
+        let mut no_hint = NO_HIT;
+        self.occluded_packet_switch::<S>(rays, out, SWITCH, &mut no_hint);
     }
 
-    /// [`Geometry::occluded_lanes`] with the hand-over threshold `switch`.
+    /// [`Geometry::occluded_lanes`] with the hand-over threshold `switch` and a shadow
+    /// cache entry `hint`, as [`Geometry::occluded_hint_kinds`] takes one for a single
+    /// ray: the primitive `*hint` is tested against every lane first, and the lanes it
+    /// blocks do not walk the tree (when it blocks them all, nothing does). `*hint`
+    /// becomes the last occluder the walk found, stays if only it blocked, and becomes
+    /// [`NO_HINT`](super::NO_HINT) when no lane is blocked. Any value is safe, and the
+    /// answer never depends on it. (A geometry without the packet kernels answers the
+    /// rays one by one and leaves `*hint` as it is, as does a packet without rays.)
     #[inline(always)]
     pub(crate) fn occluded_packet_switch<S: SimdF32>(
         &self,
         rays: &[Option<Ray<f32>>],
         out: &mut [bool],
         switch: u32,
+        hint: &mut u32,
     ) {
         let n = S::LANES;
         assert!(n <= MAX_LANES && rays.len() >= n && out.len() >= n);
@@ -741,13 +760,28 @@ impl Geometry<f32> {
         let Some(su) = Setup::<S>::new(rays, &rd) else {
             return;
         };
+        let cached = *hint;
+        let done = if cached != NO_HIT && self.names_prim::<{ kinds::ALL }>(cached) {
+            self.packet_any(cached, su.valid, &su)
+        } else {
+            0
+        };
         let mut q = AnyPacket {
             geometry: self,
             su: &su,
-            done: 0,
+            done,
             switch,
+            blocker: NO_HIT,
         };
-        self.query(&mut q);
+        if done != su.valid {
+            self.query(&mut q);
+        }
+        *hint = match (q.done, q.blocker) {
+            (0, _) => NO_HIT,
+            (_, NO_HIT) => cached,
+            _ if done != 0 => cached,
+            (_, found) => found,
+        };
         each_lane(q.done, |l| out[l] = true);
     }
 }
@@ -844,6 +878,23 @@ impl Geometry<f32> {
         isa: Isa,
         rays: &[Option<Ray<f32>>; MAX_LANES],
     ) -> [bool; MAX_LANES] {
+        let mut no_hint = NO_HIT;
+        self.occluded_packet_hint(isa, rays, &mut no_hint)
+    }
+
+    /// [`Geometry::occluded_packet`] with a shadow cache entry `hint`, tested against
+    /// every ray first and updated as [`Geometry::occluded_hint_kinds`] updates its
+    /// own; the answer does not depend on it.
+    ///
+    /// # Panics
+    /// If the CPU lacks `isa` ([`Isa::is_available`]) or off x86-64.
+    #[inline]
+    pub fn occluded_packet_hint(
+        &self,
+        isa: Isa,
+        rays: &[Option<Ray<f32>>; MAX_LANES],
+        hint: &mut u32,
+    ) -> [bool; MAX_LANES] {
         let mut out = [false; MAX_LANES];
         dispatch(
             isa,
@@ -851,6 +902,7 @@ impl Geometry<f32> {
                 geometry: self,
                 rays,
                 out: &mut out,
+                hint,
             },
         );
         out
@@ -892,13 +944,15 @@ struct AnyKernel<'a> {
     geometry: &'a Geometry<f32>,
     rays: &'a [Option<Ray<f32>>; MAX_LANES],
     out: &'a mut [bool; MAX_LANES],
+    hint: &'a mut u32,
 }
 
 impl Kernel for AnyKernel<'_> {
     type Output = ();
     #[inline(always)]
     fn run<S: SimdF32>(self) {
-        self.geometry.occluded_lanes::<S>(self.rays, self.out);
+        self.geometry
+            .occluded_packet_switch::<S>(self.rays, self.out, SWITCH, self.hint);
     }
 }
 
@@ -1008,6 +1062,8 @@ struct AnyPacket<'a, S: SimdF32> {
     done: u32,
     /// The hand-over threshold of [`crate::bvh::Bvh::traverse4_packet`].
     switch: u32,
+    /// The last primitive found to block a lane, or [`NO_HIT`].
+    blocker: u32,
 }
 
 impl<S: SimdF32> AnyPacket<'_, S> {
@@ -1038,6 +1094,9 @@ impl<S: SimdF32> Query for AnyPacket<'_, S> {
                 break;
             }
             let d = g.packet_any(r, m, su);
+            if d != 0 {
+                self.blocker = r;
+            }
             self.done |= d;
             m &= !d;
         }
@@ -1064,16 +1123,16 @@ impl<S: SimdF32> Query for AnyPacket<'_, S> {
 impl<S: SimdF32> PacketVisitor<S> for AnyPacket<'_, S> {
     #[inline(always)]
     fn leaf(&mut self, leaf: Leaf<'_>, lanes: u32, t_max: S) -> Option<S> {
-        self.done |= self
-            .geometry
-            .packet_leaf_any(leaf, lanes & !self.done, self.su);
+        self.done |=
+            self.geometry
+                .packet_leaf_any(leaf, lanes & !self.done, self.su, &mut self.blocker);
         self.update(t_max)
     }
 
     #[inline(always)]
     fn handover(&mut self, bvh: &Bvh, node: u32, lanes: u32, t_max: S) -> Option<S> {
         let (g, su) = (self.geometry, self.su);
-        let mut done = self.done;
+        let (mut done, mut blocker) = (self.done, self.blocker);
         each_lane(lanes & !done, |l| {
             let rd = su.lane(l);
             let mut best = Best::none(rd.t_limit);
@@ -1083,9 +1142,12 @@ impl<S: SimdF32> PacketVisitor<S> for AnyPacket<'_, S> {
                 best: &mut best,
             }
             .wide_from(bvh, node);
+            if hit {
+                blocker = best.r;
+            }
             done |= u32::from(hit) << l;
         });
-        self.done = done;
+        (self.done, self.blocker) = (done, blocker);
         self.update(t_max)
     }
 
@@ -1140,7 +1202,7 @@ mod tests {
                 self.frustum,
             );
             self.geometry
-                .occluded_packet_switch::<S>(self.rays, &mut blocked, self.switch);
+                .occluded_packet_switch::<S>(self.rays, &mut blocked, self.switch, &mut { NO_HIT });
             (hits, blocked)
         }
     }
