@@ -734,7 +734,7 @@ impl Geometry<f32> {
     /// cache entry `hint`, as [`Geometry::occluded_hint_kinds`] takes one for a single
     /// ray: the primitive `*hint` is tested against every lane first, and the lanes it
     /// blocks do not walk the tree (when it blocks them all, nothing does). `*hint`
-    /// becomes the last occluder the walk found, stays if only it blocked, and becomes
+    /// becomes the last occluder found (itself, if nothing else blocked), and
     /// [`NO_HINT`](super::NO_HINT) when no lane is blocked. Any value is safe, and the
     /// answer never depends on it. (A geometry without the packet kernels answers the
     /// rays one by one and leaves `*hint` as it is, as does a packet without rays.)
@@ -761,25 +761,18 @@ impl Geometry<f32> {
             return;
         };
         let cached = *hint;
-        let done = if cached != NO_HIT && self.names_prim::<{ kinds::ALL }>(cached) {
-            self.packet_any(cached, su.valid, &su)
-        } else {
-            0
-        };
         let mut q = AnyPacket {
             geometry: self,
             su: &su,
-            done,
+            done: 0,
             switch,
+            cached,
             blocker: NO_HIT,
         };
-        if done != su.valid {
-            self.query(&mut q);
-        }
+        self.query(&mut q);
         *hint = match (q.done, q.blocker) {
             (0, _) => NO_HIT,
             (_, NO_HIT) => cached,
-            _ if done != 0 => cached,
             (_, found) => found,
         };
         each_lane(q.done, |l| out[l] = true);
@@ -1062,6 +1055,9 @@ struct AnyPacket<'a, S: SimdF32> {
     done: u32,
     /// The hand-over threshold of [`crate::bvh::Bvh::traverse4_packet`].
     switch: u32,
+    /// The shadow cache entry ([`Geometry::occluded_packet_switch`]), tested ahead of
+    /// the first primitive loop and then cleared.
+    cached: u32,
     /// The last primitive found to block a lane, or [`NO_HIT`].
     blocker: u32,
 }
@@ -1089,7 +1085,12 @@ impl<S: SimdF32> Query for AnyPacket<'_, S> {
     fn refs(&mut self, refs: impl Iterator<Item = u32>) -> bool {
         let (g, su) = (self.geometry, self.su);
         let mut m = su.valid & !self.done;
-        for r in refs {
+        // The cached occluder goes first, in the same loop: a second call site of
+        // `packet_any` made the kernel too large for the closures of the lane kernels
+        // to be inlined (`asm-dumps/tests/intrinsic_calls.rs`).
+        let cached = core::mem::replace(&mut self.cached, NO_HIT);
+        let cached = (cached != NO_HIT && g.names_prim::<{ kinds::ALL }>(cached)).then_some(cached);
+        for r in cached.into_iter().chain(refs) {
             if m == 0 {
                 break;
             }
