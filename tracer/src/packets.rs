@@ -50,7 +50,7 @@ use crate::camera::{Camera, Grid, Window};
 use crate::effects::{has, REFLECTION, REFRACTION, SHADOWS};
 use crate::ray::{Hit, Ray};
 use crate::settings::TraceLimits;
-use crate::shade::{shade_local, trace_fx, Secondary, Surface};
+use crate::shade::{shade_local, trace_fx, Secondary, Surface, CACHE_LIGHTS};
 use crate::stats::RayCounts;
 use crate::world::Scene;
 use std::cell::Cell;
@@ -222,17 +222,13 @@ fn shade_packet<const FX: u32>(
         if !any {
             continue;
         }
-        let blocked = match SHADOW_HINTS.with(|h| h.get(li).map(Cell::get)) {
-            Some(mut hint) => {
-                let was = hint;
-                let blocked = scene.geometry.occluded_packet_hint(isa, &packet, &mut hint);
-                if hint != was {
-                    SHADOW_HINTS.with(|h| h[li].set(hint));
-                }
-                blocked
-            }
-            None => scene.geometry.occluded_packet(isa, &packet),
-        };
+        // Lights beyond the cache's start from no entry and keep none.
+        let was = SHADOW_HINTS.with(|h| h.get(li).map(Cell::get));
+        let mut hint = was.unwrap_or(crate::geometry::NO_HINT);
+        let blocked = scene.geometry.occluded_packet_hint(isa, &packet, &mut hint);
+        if was.is_some_and(|was| was != hint) {
+            SHADOW_HINTS.with(|h| h[li].set(hint));
+        }
         for (k, lane) in lanes.iter_mut().enumerate() {
             if let (Some(_), false, Some((s, color))) = (&packet[k], blocked[k], lane) {
                 s.add_light::<FX>(color, light, &dirs[k], ar);
@@ -424,17 +420,13 @@ pub(crate) fn radiance_tile<const FX: u32>(
     out
 }
 
-/// Lights with a shadow cache entry for the shadow packets of [`shade_packet`]; the
-/// packets of others go uncached.
-const HINT_LIGHTS: usize = 8;
-
 thread_local! {
     /// The last occluder of a shadow packet toward each light on this thread, tested
     /// against the next packet's rays before its walk (the packet form of the shadow
     /// cache of [`crate::shade`]). Like that cache it only decides how soon occluders
     /// are found, never whether they are, so images do not depend on it.
-    static SHADOW_HINTS: [Cell<u32>; HINT_LIGHTS] =
-        const { [const { Cell::new(crate::geometry::NO_HINT) }; HINT_LIGHTS] };
+    static SHADOW_HINTS: [Cell<u32>; CACHE_LIGHTS] =
+        const { [const { Cell::new(crate::geometry::NO_HINT) }; CACHE_LIGHTS] };
     /// The nodes of [`radiance_tile`], kept from tile to tile on each thread.
     static NODES: Cell<Vec<Node>> = const { Cell::new(Vec::new()) };
     /// The order of a generation's nodes in its packets ([`by_octant`]).

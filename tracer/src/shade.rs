@@ -297,8 +297,9 @@ impl<'a, T: Real> Surface<'a, T> {
     }
 }
 
-/// Lights and ray depths with a shadow cache entry; shadow rays of others go uncached.
-const CACHE_LIGHTS: usize = 8;
+/// Lights and ray depths with a shadow cache entry; shadow rays of others go uncached
+/// (the shadow packets' cache of [`crate::packets`] keeps as many lights).
+pub(crate) const CACHE_LIGHTS: usize = 8;
 /// See [`CACHE_LIGHTS`].
 const CACHE_DEPTHS: usize = 8;
 
