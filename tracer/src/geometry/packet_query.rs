@@ -734,7 +734,9 @@ impl Geometry<f32> {
     /// cache entry `hint`, as [`Geometry::occluded_hint_kinds`] takes one for a single
     /// ray: the primitive `*hint` is tested against every lane first, and the lanes it
     /// blocks do not walk the tree (when it blocks them all, nothing does). `*hint`
-    /// becomes the last occluder found (itself, if nothing else blocked), and
+    /// becomes the last occluder found (itself, if nothing else blocked); it stays as it
+    /// was when the only blocked lanes were traced one by one after their beam gave up
+    /// ([`PacketVisitor::scatter`] records no occluder), and becomes
     /// [`NO_HINT`](super::NO_HINT) when no lane is blocked. Any value is safe, and the
     /// answer never depends on it. (A geometry without the packet kernels answers the
     /// rays one by one and leaves `*hint` as it is, as does a packet without rays.)
