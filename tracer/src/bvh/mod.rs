@@ -46,7 +46,7 @@ impl Bvh {
     /// # Panics
     /// If there are more than `u32::MAX` primitives.
     pub fn build(prims: &mut [BuildPrim], cfg: &BuildConfig) -> Self {
-        Self::build_widths(prims, cfg, false)
+        Self::build_beside(prims, cfg, false, |_| ()).0
     }
 
     /// [`Bvh::build`], with the eight-wide tree as well, which single rays walk where
@@ -56,15 +56,35 @@ impl Bvh {
     /// # Panics
     /// If there are more than `u32::MAX` primitives.
     pub fn build_with_eight_wide(prims: &mut [BuildPrim], cfg: &BuildConfig) -> Self {
-        Self::build_widths(prims, cfg, true)
+        Self::build_beside(prims, cfg, true, |_| ()).0
     }
 
-    fn build_widths(prims: &mut [BuildPrim], cfg: &BuildConfig, eight: bool) -> Self {
+    /// [`Bvh::build`], or [`Bvh::build_with_eight_wide`] when `eight`, calling `side` on
+    /// the primitive ids in leaf order (the future [`Bvh::refs`]) while the binary tree
+    /// is collapsed into the wide ones. `side` may rewrite the ids: a caller that moves
+    /// its primitives into leaf order points them at their new places there. Its result
+    /// is returned beside the tree.
+    ///
+    /// With `cfg.parallel` the three run as rayon tasks: the eight-wide collapse (the
+    /// longest) on this thread at once, the four-wide collapse and then `side` on
+    /// another, so that on two threads the collapses and the caller's reordering end
+    /// close together instead of one after the other. Each task's result depends only
+    /// on the tree, so the outcome is the same for any number of threads.
+    ///
+    /// # Panics
+    /// If there are more than `u32::MAX` primitives.
+    pub fn build_beside<R: Send>(
+        prims: &mut [BuildPrim],
+        cfg: &BuildConfig,
+        eight: bool,
+        side: impl FnOnce(&mut [u32]) -> R + Send,
+    ) -> (Self, R) {
         assert!(
             u32::try_from(prims.len()).is_ok(),
             "too many primitives for a BVH"
         );
         let (nodes, depth) = build::build(prims, cfg);
+        let prims = &*prims;
         let four = || wide::collapse(&nodes);
         let eight = || {
             if eight {
@@ -73,19 +93,25 @@ impl Bvh {
                 Vec::new()
             }
         };
-        let ((wide, wide_depth), wide8) = if cfg.parallel {
-            rayon::join(four, eight)
-        } else {
-            (four(), eight())
+        let refs = || {
+            let mut refs: Vec<u32> = prims.iter().map(|p| p.id).collect();
+            let r = side(&mut refs);
+            (refs, r)
         };
-        Self {
+        let (wide8, ((wide, wide_depth), (refs, r))) = if cfg.parallel {
+            rayon::join(eight, || rayon::join(four, refs))
+        } else {
+            (eight(), (four(), refs()))
+        };
+        let bvh = Self {
             nodes,
             wide,
             wide8,
-            refs: prims.iter().map(|p| p.id).collect(),
+            refs,
             depth,
             wide_depth,
-        }
+        };
+        (bvh, r)
     }
 
     /// The nodes, depth-first; the root is `nodes()[0]` (empty for no primitives).
@@ -96,13 +122,6 @@ impl Bvh {
     /// Primitive ids in leaf order: a leaf covers `refs()[offset..offset + count]`.
     pub fn refs(&self) -> &[u32] {
         &self.refs
-    }
-
-    /// Rewrites every id through `f` (used after the caller reorders its primitives).
-    pub(crate) fn remap_refs(&mut self, mut f: impl FnMut(usize, u32) -> u32) {
-        for (i, r) in self.refs.iter_mut().enumerate() {
-            *r = f(i, *r);
-        }
     }
 
     /// Number of levels (1 for a single leaf, 0 when empty).

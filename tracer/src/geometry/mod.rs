@@ -493,12 +493,9 @@ impl<T: Float> Geometry<T> {
                 parallel: opts.parallel_build,
                 traversal_cost: opts.traversal_cost,
             };
-            let mut bvh = if eight {
-                Bvh::build_with_eight_wide(&mut build_prims, &cfg)
-            } else {
-                Bvh::build(&mut build_prims, &cfg)
-            };
-            prims.reorder(&mut bvh, opts.parallel_build);
+            let (mut bvh, ()) = Bvh::build_beside(&mut build_prims, &cfg, eight, |refs| {
+                prims.reorder(refs, opts.parallel_build)
+            });
             prims.group_leaves(&mut bvh);
             bvh
         });

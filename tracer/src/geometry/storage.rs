@@ -193,25 +193,26 @@ impl<T: Real> Prims<T> {
         })
     }
 
-    /// Reorders the primitive arrays into the BVH's leaf order and points the BVH's
-    /// references at the new positions: one pass over the references lists, per kind,
-    /// the old indices in leaf order, then each array is gathered (in parallel for large
-    /// scenes when `parallel`).
-    pub fn reorder(&mut self, bvh: &mut Bvh, parallel: bool) {
+    /// Reorders the primitive arrays into the leaf order of a BVH's references `refs`
+    /// and points the references at the new positions: one pass over the references
+    /// lists, per kind, the old indices in leaf order, then each array is gathered (in
+    /// parallel for large scenes when `parallel`). Meant as the side task of
+    /// [`Bvh::build_beside`].
+    pub fn reorder(&mut self, refs: &mut [u32], parallel: bool) {
         use crate::pages::vec_with_capacity;
         let mut spheres = vec_with_capacity(self.spheres.len());
         let mut triangles = vec_with_capacity(self.triangles.len());
         let mut cones = vec_with_capacity(self.cones.len());
-        bvh.remap_refs(|_, r| {
-            let i = r & INDEX_MASK;
-            let (kind, order) = match r >> TAG_SHIFT {
+        for r in refs.iter_mut() {
+            let i = *r & INDEX_MASK;
+            let (kind, order) = match *r >> TAG_SHIFT {
                 SPHERE => (SPHERE, &mut spheres),
                 TRIANGLE => (TRIANGLE, &mut triangles),
                 _ => (CONE, &mut cones),
             };
             order.push(i);
-            make_ref(kind, order.len() - 1)
-        });
+            *r = make_ref(kind, order.len() - 1);
+        }
         debug_assert_eq!(spheres.len(), self.spheres.len());
         debug_assert_eq!(triangles.len(), self.triangles.len());
         debug_assert_eq!(cones.len(), self.cones.len());
