@@ -7,8 +7,8 @@
 //! $C = C_{trav} + C_{isect} (A_L N_L + A_R N_R) / A$ is evaluated only at the bin
 //! boundaries, with two sweeps over the bins. All three axes are binned in the same
 //! pass over the primitives, and swept side by side. A node of $n$ primitives uses
-//! $\min(32, \max(4 + n/20, \min(n, 16)))$ bins (after Embree's builder), so that the
-//! sweeps stay cheap next to the binning for the many mid-sized nodes.
+//! $\min(32, 4 + n/20)$ bins (Embree's count), so that the sweeps stay cheap next to
+//! the binning for the many small and mid-sized nodes.
 //!
 //! A node becomes a leaf when it holds one primitive, or at most `max_leaf_size` and the
 //! SAH finds no split cheaper than intersecting them all. When the centroids coincide
@@ -461,15 +461,17 @@ pub const PARALLEL_BIN_MIN: usize = 1 << 16;
 /// and counts), so the chunking cannot change the result.
 const BIN_CHUNK: usize = 1 << 14;
 
-/// Bins per axis for a node of `n` primitives: $4 + n/20$ (the count of Embree's binned
-/// builder, `min(BINS, 4 + 0.05 n)`), but at least $\min(n, 16)$, between [`MIN_BINS`]
-/// and [`NUM_BINS`]. The sweeps cost $O(bins)$ per node; with 32 bins for every node
-/// above 32 primitives they took about a fifth of the build. Embree's count alone saves
-/// more (35 % of the build's instructions against 20 %) but raises the SAH cost of the
-/// triangle scenes by up to 0.6 %; keeping 16 bins for the small nodes, where the leaves
-/// are decided, keeps it within 0.15 % of 32 bins everywhere.
+/// Bins per axis for a node of `n` primitives: $4 + n/20$, between [`MIN_BINS`] and
+/// [`NUM_BINS`] (the count of Embree's binned builder, `min(BINS, 4 + 0.05 n)`). The
+/// sweeps cost $O(bins)$ per node; with 32 bins for every node above 32 primitives they
+/// took about a fifth of the build. Against a floor of $\min(n, 16)$ bins for the small
+/// nodes, which an earlier build kept for the SAH cost (up to 0.6 % lower on the triangle
+/// scenes), this count runs 13.7 % fewer instructions in balls-s6's binary build, while
+/// the single eye rays of every classic scene, balls-s6, mount-s8 and teapot-s40 run
+/// within 0.5 % of the same instructions (rings-s7 1.9 % fewer) (`RESULTS.md`, "The
+/// build overlaps its reordering and bins as Embree does").
 fn bin_count(n: usize) -> usize {
-    (4 + n / 20).max(n.min(16)).clamp(MIN_BINS, NUM_BINS)
+    (4 + n / 20).clamp(MIN_BINS, NUM_BINS)
 }
 
 /// The centroid-to-bin mapping of one node: the values of [`bin_of`] for the three
@@ -1224,9 +1226,12 @@ mod tests {
     #[test]
     fn bin_counts_grow_with_the_node() {
         assert_eq!(bin_count(2), 4);
-        assert_eq!(bin_count(8), 8);
-        assert_eq!(bin_count(100), 16);
+        assert_eq!(bin_count(19), 4);
+        assert_eq!(bin_count(39), 5);
+        assert_eq!(bin_count(40), 6);
+        assert_eq!(bin_count(100), 9);
         assert_eq!(bin_count(400), 24);
+        assert_eq!(bin_count(560), NUM_BINS);
         assert_eq!(bin_count(1000), NUM_BINS);
         assert_eq!(bin_of(f32::NAN, 0.0, 1.0, 4), 0);
         assert_eq!(bin_of(-5.0, 0.0, 1.0, 4), 0);
